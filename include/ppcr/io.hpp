@@ -1,0 +1,84 @@
+// io.hpp - ppcr_io: reading and writing point clouds (PLY, PCD, XYZ/CSV).
+//
+// A separate library (target ppcr::io) so embedded users of the core can leave it out.
+// Like the core, it never throws across its API and never prints: each call returns a Status whose
+// message names the file, the line or byte offset, and what was expected.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "ppcr/status.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace io {
+
+enum class Format { kAuto, kPly, kPcd, kXyz };
+
+/// What a reader saw, beyond the points it returned.
+struct ReadReport {
+  Format format = Format::kAuto;  // the format actually read
+  std::string encoding;           // "ascii", "binary_little_endian", "binary", "binary_compressed"...
+  std::size_t points_in_file = 0;       // points the file holds (header count, or data rows)
+  std::size_t non_finite_dropped = 0;   // points with a NaN/Inf coordinate, dropped and counted
+};
+
+/// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts,
+/// case-insensitive) and, when the extension is unknown, by the file's first bytes ("ply" line;
+/// "# .PCD", VERSION or FIELDS; numbers). Coordinates are read as double; points with a non-finite
+/// coordinate are dropped and counted in report->non_finite_dropped. A file holding zero finite
+/// points is an error (kEmptyCloud). The file is read whole into memory first.
+/// On any error *cloud is left empty; *report (if given) holds what was learnt before the error.
+///
+/// Formats read:
+///  - PLY ascii / binary_little_endian / binary_big_endian: x y z of element "vertex", of any
+///    numeric type; other properties (also lists) and other elements (faces...) are skipped.
+///  - PCD v0.7 (and .5/.6 headers) DATA ascii / binary / binary_compressed (LZF): fields x y z of
+///    any TYPE/SIZE/COUNT; organized clouds are read row after row (NaN padding dropped).
+///  - XYZ/CSV/PTS text: one point per line, fields separated by blanks and/or commas, the first
+///    three are x y z, every line has the same number (>= 3) of numeric fields; blank lines and
+///    '#' comments are skipped. The FIRST non-comment line may instead be a header of column
+///    names (no numeric field) or a PTS point count (one integer, checked against the data).
+Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report = nullptr,
+                  Format format = Format::kAuto);
+
+/// Like read_cloud, from `size` bytes at `data` (need not be NUL-terminated; nothing past
+/// data + size is read). `name` stands for the file in messages and, with Format::kAuto, gives
+/// the extension. size == 0 is an error (kParseError: empty file). No file is touched.
+Status read_cloud_from_buffer(const std::string& name, const char* data, std::size_t size,
+                              Format format, PointCloud* cloud, ReadReport* report = nullptr);
+
+/// The format a path's extension names (.ply .pcd .xyz .txt .csv .pts, any case), else kAuto.
+Format format_from_extension(const std::string& path);
+
+/// Writes a cloud. Format::kAuto picks by extension. PLY is written binary little endian with
+/// double x y z, PCD binary with double x y z, XYZ as ASCII text with 17 significant digits, so
+/// that every round trip is exact. A cloud with a non-finite coordinate is refused
+/// (kInvalidArgument: readers would drop the point); an empty cloud is written as a valid file
+/// with zero points. Write failures (cannot create, disk full...) give kIoError naming the path,
+/// and the partial file is removed.
+Status write_cloud(const std::string& path, const PointCloud& cloud, Format format = Format::kAuto);
+
+/// Reads a rigid transform: 16 numbers (a 4x4 matrix, row by row) or 12 (its top 3 rows, the last
+/// row being 0 0 0 1), separated by blanks/newlines; '#' starts a comment to the end of the line.
+/// The matrix must be rigid, as ppcr::se3::is_rigid(M, 1e-6) decides (R^T R = I and det R = +1
+/// within 1e-6), with the last row 0 0 0 1 within 1e-9; otherwise kParseError says what is wrong
+/// (e.g. "R^T R deviates from I by 0.03"). The values are kept as written (not re-orthonormalised),
+/// except that the last row is set to exactly 0 0 0 1.
+Status read_transform(const std::string& path, Eigen::Isometry3d* T);
+
+/// Like read_transform, from bytes in memory; `name` stands for the file in messages.
+Status read_transform_from_buffer(const std::string& name, const char* data, std::size_t size,
+                                  Eigen::Isometry3d* T);
+
+/// Writes T as 4 lines of 4 numbers with 17 significant digits (an exact round trip through
+/// read_transform). Refuses (kInvalidArgument) a non-finite or non-rigid T.
+Status write_transform(const std::string& path, const Eigen::Isometry3d& T);
+
+const char* to_string(Format format);
+
+}  // namespace io
+}  // namespace ppcr

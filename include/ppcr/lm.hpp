@@ -1,0 +1,45 @@
+// lm.hpp - settings and summary of the inner loop: Levenberg-Marquardt on SE(3).
+//
+// The inner problem of one outer iteration has fixed associations and minimises
+//   cost(T) = 1/2 * sum_j sum_k w_kj * |y_k - T x_j|^2                       (paper eq. 1)
+// with the weights w_kj recomputed from the pose after every accepted step (IRLS, as the
+// authors do in a Ceres iteration callback). A step is accepted when it lowers the cost under the
+// SAME weights as the pose it starts from; the weights are then refreshed at the new pose.
+#pragma once
+
+namespace ppcr {
+
+struct LMOptions {
+  int max_iterations = 50;            // LM iterations (accepted + rejected steps) per inner problem
+  double function_tolerance = 1e-5;   // stop after an accepted step that lowers the cost by less
+                                      // than this fraction of the cost before it (authors: 1e-5)
+  double gradient_tolerance = 1e-10;  // stop when max_i |g_i| <= this * max_i |g_i| at the start
+  double step_tolerance = 1e-7;       // stop when a step would move no source point by more than
+                                      // this fraction of the association radius (bound:
+                                      // |omega| * r_max + |v|, r_max the source's extent)
+  double initial_lambda = 1e-4;  // initial damping (Ceres' default trust radius 1e4 = 1/lambda)
+  double max_lambda = 1e16;      // give up (kLambdaTooLarge) when damping exceeds this
+};
+
+enum class LMTermination {
+  kFunctionTolerance,  // converged: relative cost decrease below function_tolerance
+  kGradientTolerance,  // converged: gradient vanished
+  kStepTolerance,      // converged: steps too small to move any point
+  kMaxIterations,      // max_iterations reached
+  kLambdaTooLarge,     // no step lowers the cost any more (damping ran away)
+  kNoResiduals,        // zero total weight: nothing to minimise
+  kNumericalFailure,   // non-finite cost, gradient or step
+};
+
+const char* to_string(LMTermination t);
+
+struct LMSummary {
+  double initial_cost = 0.0;   // cost at the starting pose, weights computed at that pose
+  double final_cost = 0.0;     // cost at the final pose, weights refreshed at that pose
+  int successful_steps = 0;    // accepted steps (cost fell under unchanged weights)
+  int unsuccessful_steps = 0;  // rejected steps (lambda increased)
+  int iterations = 0;          // successful_steps + unsuccessful_steps
+  LMTermination termination = LMTermination::kMaxIterations;
+};
+
+}  // namespace ppcr

@@ -1,0 +1,120 @@
+// registration.hpp - the PPCR outer loop: associate, solve (LM), compose, ask the criteria.
+//
+//   Registration reg(options);
+//   reg.set_target(target);                               // filters, builds the k-d tree once
+//   RegistrationResult r = reg.align(source, T_initial);  // r.T_target_source maps source ->
+//   target
+//
+// Everything the loop needs is allocated in set_target()/align() set-up; the loop itself
+// (association, weights, normal equations) allocates nothing.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "ppcr/lm.hpp"
+#include "ppcr/status.hpp"
+#include "ppcr/termination.hpp"
+#include "ppcr/types.hpp"
+#include "ppcr/weights.hpp"
+
+namespace ppcr {
+
+struct RegistrationOptions {
+  double radius = 1.0;              // association radius, cloud units (> 0): target points farther
+                                    // than this from a transformed source point are ignored
+  int max_neighbours = 10;          // associations per source point, k (>= 1)
+  WeightOptions weights;            // E-step model, dof and scale
+  LMOptions lm;                     // inner loop
+  TerminationCriteria termination;  // outer loop
+  double source_voxel = 0.0;        // voxel leaf for the source, cloud units (0 = no filtering)
+  double target_voxel = 0.0;        // voxel leaf for the target, cloud units (0 = no filtering)
+  int num_threads = 1;              // threads for association and reductions (>= 1; the result
+                                    // does not depend on it)
+  bool record_history = true;       // keep one IterationRecord per outer iteration in the result
+};
+
+/// One row of the per-iteration trace.
+struct IterationRecord {
+  int iteration = 0;           // 1-based
+  int successful_steps = 0;    // LM accepted steps
+  int unsuccessful_steps = 0;  // LM rejected steps
+  double initial_cost = 0.0;   // inner problem's cost before / after LM
+  double final_cost = 0.0;
+  double cost_drop = 0.0;           // (initial - final) / initial; NaN when initial is 0
+  double mse_prev = 0.0;            // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5)
+  double mse_ground_truth = -1.0;   // mean |T_t x - T_gt x|^2; -1 without a ground truth
+  double benchmark_error = -1.0;    // benchmark metric w.r.t. the ground truth; -1 without one
+  double scale = 0.0;               // s used by the E-step (cloud units; 1 in raw mode)
+  std::size_t correspondences = 0;  // associated (source, target) pairs
+  std::size_t matched_source_points = 0;  // source points with at least one neighbour
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
+  double time_ms = 0.0;  // wall time of this outer iteration
+};
+
+struct RegistrationResult {
+  Status status;  // not ok: input refused or a failure (see stop_reason)
+  StopReason stop_reason = StopReason::kNone;
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // maps source into target
+  int iterations = 0;                                                 // outer iterations run
+  int lm_iterations = 0;          // LM steps over all outer iterations (accepted + rejected)
+  int lm_successful_steps = 0;    // accepted LM steps over all outer iterations
+  double initial_cost = 0.0;      // first inner problem's initial cost
+  double final_cost = 0.0;        // last inner problem's final cost
+  double scale = 0.0;             // final E-step scale s (cloud units)
+  std::size_t source_points = 0;  // source points registered (after filtering)
+  std::size_t target_points = 0;  // target points (after filtering)
+  std::size_t matched_source_points = 0;  // source points with a neighbour, last iteration
+  std::size_t correspondences = 0;        // associated pairs, last iteration
+  std::size_t source_non_finite = 0;      // non-finite points dropped from the source
+  std::size_t target_non_finite = 0;      // non-finite points dropped from the target
+  /// Gauss-Newton information (J^T W J) at the final pose, twist (omega, v) applied on the left
+  /// about the target's centroid. Its small eigenvalues are the directions the data leave free.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  int degenerate_directions = 0;  // eigenvalues of the (scale-normalised) information below
+                                  // 1e-6 of the largest: 0 for well-constrained geometry
+  std::vector<IterationRecord> history;
+
+  /// True when a termination criterion stopped the loop (not the cap, not a failure).
+  bool converged() const { return status.ok() && is_criterion_stop(stop_reason); }
+};
+
+/// Checks options; the message names the parameter and the value seen.
+Status validate(const RegistrationOptions& options);
+
+class Registration {
+ public:
+  explicit Registration(const RegistrationOptions& options = RegistrationOptions());
+  ~Registration();
+  Registration(Registration&&) noexcept;
+  Registration& operator=(Registration&&) noexcept;
+  Registration(const Registration&) = delete;
+  Registration& operator=(const Registration&) = delete;
+
+  const RegistrationOptions& options() const;
+
+  /// Validates the options, drops non-finite points, voxel-filters and indexes the target.
+  Status set_target(const PointCloud& target);
+
+  /// Registers source onto the target set last. T_initial maps source into the target frame
+  /// (the initial guess). With T_ground_truth given, each history row also records the MSE and
+  /// benchmark error w.r.t. it (analysis only: it never influences the registration).
+  RegistrationResult align(const PointCloud& source,
+                           const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity(),
+                           const Eigen::Isometry3d* T_ground_truth = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-shot convenience: Registration(options).set_target(target) then align(source, ...).
+RegistrationResult align(const PointCloud& source, const PointCloud& target,
+                         const RegistrationOptions& options = RegistrationOptions(),
+                         const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity(),
+                         const Eigen::Isometry3d* T_ground_truth = nullptr);
+
+}  // namespace ppcr

@@ -1,0 +1,40 @@
+// association.cpp - radius-limited kNN of every transformed source point.
+#include "association.hpp"
+
+#include "parallel.hpp"
+
+namespace ppcr {
+namespace detail {
+
+void AssociationTable::resize(std::size_t source_points, int neighbours) {
+  k = neighbours;
+  index.resize(source_points * static_cast<std::size_t>(neighbours));
+  dist_sq.resize(source_points * static_cast<std::size_t>(neighbours));
+  count.resize(source_points);
+  pairs = matched = 0;
+}
+
+void associate(const KdTree& target_tree, const PointCloud& source,
+               const Eigen::Isometry3d& T_target_source, double radius_sq, int num_threads,
+               AssociationTable* table) {
+  const int k = table->k;
+  const Eigen::Matrix3d R = T_target_source.linear();
+  const Eigen::Vector3d t = T_target_source.translation();
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t j) {
+    const std::size_t slot = static_cast<std::size_t>(j) * static_cast<std::size_t>(k);
+    const Eigen::Vector3d p = R * source[static_cast<std::size_t>(j)] + t;
+    table->count[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(
+        target_tree.radius_knn(p, k, radius_sq, &table->index[slot], &table->dist_sq[slot]));
+  });
+  // Integer totals: exact in any order.
+  std::size_t pairs = 0, matched = 0;
+  for (std::uint16_t c : table->count) {
+    pairs += c;
+    matched += (c > 0);
+  }
+  table->pairs = pairs;
+  table->matched = matched;
+}
+
+}  // namespace detail
+}  // namespace ppcr

@@ -1,0 +1,38 @@
+// association.hpp - data association: for each source point, transformed by the current pose,
+// up to k target points within the radius (paper Sec. 3.1), in a fixed-stride table.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "kdtree.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+/// Slot m < count[j] of source point j holds its m-th nearest target point within the radius:
+/// index[j * k + m] (into the target) and dist_sq[j * k + m]. Sized once by resize().
+struct AssociationTable {
+  int k = 0;
+  std::vector<std::uint32_t> index;
+  std::vector<double> dist_sq;
+  std::vector<std::uint16_t> count;  // k <= kMaxNeighbours fits in 16 bits
+  std::size_t pairs = 0;             // sum of count
+  std::size_t matched = 0;           // source points with count > 0
+
+  static constexpr int kMaxNeighbours = 1024;
+
+  void resize(std::size_t source_points, int neighbours);
+};
+
+/// Fills table for the source points moved by T_target_source (both in the frames the tree and
+/// source are expressed in). Parallel over source points; the result does not depend on the
+/// thread count. Allocation-free once the table is sized.
+void associate(const KdTree& target_tree, const PointCloud& source,
+               const Eigen::Isometry3d& T_target_source, double radius_sq, int num_threads,
+               AssociationTable* table);
+
+}  // namespace detail
+}  // namespace ppcr

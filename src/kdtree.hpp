@@ -1,0 +1,40 @@
+// kdtree.hpp - a k-d tree over the target and the radius-limited k-nearest-neighbour query.
+//
+// The only file that includes nanoflann (1.4.x), behind a pimpl. nanoflann's L2 metric
+// returns SQUARED distances: every distance here is squared and says so.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "ppcr/status.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+class KdTree {
+ public:
+  KdTree();
+  ~KdTree();
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+
+  /// Indexes points (kept by reference: it must outlive the tree and stay unchanged).
+  Status build(const PointCloud& points);
+
+  /// Up to k indices of the points nearest to query with squared distance <= radius_sq
+  /// (inclusive), sorted by increasing distance; writes indices[0..n), dist_sq[0..n) and returns
+  /// n. Allocation-free. Thread-safe (const).
+  int radius_knn(const Eigen::Vector3d& query, int k, double radius_sq, std::uint32_t* indices,
+                 double* dist_sq) const;
+
+  std::size_t size() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace detail
+}  // namespace ppcr

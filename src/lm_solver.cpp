@@ -1,0 +1,125 @@
+// lm_solver.cpp - the inner loop.
+#include "lm_solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "ppcr/se3.hpp"
+
+namespace ppcr {
+namespace detail {
+
+void LMSolver::resize(std::size_t source_points, int k) {
+  const std::size_t slots = source_points * static_cast<std::size_t>(k);
+  w_current_.assign(slots, 0.0);
+  w_trial_.assign(slots, 0.0);
+  r_sq_.assign(slots, 0.0);
+  normal_equations_.resize(source_points);
+}
+
+LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::Isometry3d* T) {
+  LMSummary summary;
+  auto evaluate = [&](const Eigen::Isometry3d& pose, const double* w_prev, double* w_new,
+                      Evaluation* out) {
+    normal_equations_.evaluate(*pb.source, *pb.target, *pb.assoc, pb.weights, pose, w_prev, w_new,
+                               r_sq_.data(), pb.num_threads, out);
+  };
+
+  evaluate(*T, nullptr, w_current_.data(), &current_);
+  summary.initial_cost = summary.final_cost = current_.cost;
+  if (!std::isfinite(current_.cost) || !current_.H.allFinite() || !current_.g.allFinite()) {
+    summary.termination = LMTermination::kNumericalFailure;
+    return summary;
+  }
+  if (!(current_.weight_sum > 0.0)) {
+    summary.termination = LMTermination::kNoResiduals;
+    return summary;
+  }
+
+  double lambda = options.initial_lambda;
+  double lambda_growth = 2.0;  // Nielsen's nu
+  const double gradient_start = current_.g.cwiseAbs().maxCoeff();
+  summary.termination = LMTermination::kMaxIterations;
+
+  while (summary.iterations < options.max_iterations) {
+    if (current_.g.cwiseAbs().maxCoeff() <= options.gradient_tolerance * gradient_start) {
+      summary.termination = LMTermination::kGradientTolerance;
+      break;
+    }
+    // (H + lambda D) delta = -g, D = diag(H) floored so that directions the data leave
+    // unconstrained still get damped (Ceres' min_diagonal, made relative).
+    const double diag_floor = 1e-12 * current_.H.diagonal().maxCoeff();
+    const Vector6d D = current_.H.diagonal().cwiseMax(diag_floor);
+    Matrix6d A = current_.H;
+    A.diagonal() += lambda * D;
+    const Vector6d delta = A.ldlt().solve(-current_.g);
+    if (!delta.allFinite()) {
+      summary.termination = LMTermination::kNumericalFailure;
+      break;
+    }
+    // Largest motion of a source point under the step: |omega| r_max + |v|.
+    const double motion = delta.head<3>().norm() * pb.source_extent + delta.tail<3>().norm();
+    if (motion <= options.step_tolerance * pb.step_reference) {
+      summary.termination = LMTermination::kStepTolerance;
+      break;
+    }
+
+    const Eigen::Isometry3d T_trial = se3::exp(delta) * (*T);
+    evaluate(T_trial, w_current_.data(), w_trial_.data(), &trial_);
+    ++summary.iterations;
+
+    const double actual = current_.cost - trial_.cost_prev_weights;  // same weights
+    // The model's predicted decrease, 1/2 delta^T (lambda D delta - g), for the gain ratio.
+    const double predicted = 0.5 * delta.dot(lambda * D.cwiseProduct(delta) - current_.g);
+    if (std::isfinite(trial_.cost_prev_weights) && std::isfinite(trial_.cost) && actual > 0.0) {
+      // Accept: move, and take the weights refreshed at the new pose (IRLS).
+      const double cost_before = current_.cost;
+      *T = T_trial;
+      std::swap(w_current_, w_trial_);
+      std::swap(current_, trial_);
+      ++summary.successful_steps;
+      const double rho = predicted > 0.0 ? actual / predicted : 0.0;
+      lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      lambda_growth = 2.0;
+      if (actual < options.function_tolerance * cost_before) {
+        summary.termination = LMTermination::kFunctionTolerance;
+        break;
+      }
+    } else {
+      ++summary.unsuccessful_steps;
+      lambda *= lambda_growth;
+      lambda_growth *= 2.0;
+      if (lambda > options.max_lambda) {
+        summary.termination = LMTermination::kLambdaTooLarge;
+        break;
+      }
+    }
+  }
+  summary.final_cost = current_.cost;
+  return summary;
+}
+
+}  // namespace detail
+
+const char* to_string(LMTermination t) {
+  switch (t) {
+    case LMTermination::kFunctionTolerance:
+      return "function_tolerance";
+    case LMTermination::kGradientTolerance:
+      return "gradient_tolerance";
+    case LMTermination::kStepTolerance:
+      return "step_tolerance";
+    case LMTermination::kMaxIterations:
+      return "max_iterations";
+    case LMTermination::kLambdaTooLarge:
+      return "lambda_too_large";
+    case LMTermination::kNoResiduals:
+      return "no_residuals";
+    case LMTermination::kNumericalFailure:
+      return "numerical_failure";
+  }
+  return "unknown";
+}
+
+}  // namespace ppcr

@@ -1,0 +1,45 @@
+// lm_solver.hpp - Levenberg-Marquardt on SE(3) with an IRLS weight refresh after each accepted
+// step (paper Sec. 3.1; ALGORITHM.md "Inner loop").
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "association.hpp"
+#include "normal_equations.hpp"
+#include "ppcr/lm.hpp"
+
+namespace ppcr {
+namespace detail {
+
+struct LMProblem {
+  const PointCloud* source = nullptr;  // source points (registration's internal frame)
+  const PointCloud* target = nullptr;  // target points (same frame as the tree)
+  const AssociationTable* assoc = nullptr;
+  WeightParams weights;
+  int num_threads = 1;
+  double step_reference = 1.0;  // length the step tolerance is relative to (the radius)
+  double source_extent = 1.0;   // r_max: largest |x| of the source (bounds a step's motion)
+};
+
+class LMSolver {
+ public:
+  /// Sizes every buffer for n source points with k neighbours each (set-up, not in the loop).
+  void resize(std::size_t source_points, int k);
+
+  /// Minimises the weighted cost over T (updated in place). Allocation-free.
+  LMSummary solve(const LMOptions& options, const LMProblem& problem, Eigen::Isometry3d* T);
+
+  /// The last accepted evaluation: H (information), g, cost and weight sum at the final pose.
+  const Evaluation& last() const { return current_; }
+  /// Weights at the final pose, stride k.
+  const std::vector<double>& weights() const { return w_current_; }
+
+ private:
+  NormalEquations normal_equations_;
+  std::vector<double> w_current_, w_trial_, r_sq_;
+  Evaluation current_, trial_;
+};
+
+}  // namespace detail
+}  // namespace ppcr

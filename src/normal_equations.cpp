@@ -1,0 +1,94 @@
+// normal_equations.cpp - fused residuals / weights / normal equations pass (see header).
+#include "normal_equations.hpp"
+
+#include "parallel.hpp"
+#include "ppcr/se3.hpp"
+
+namespace ppcr {
+namespace detail {
+
+void NormalEquations::resize(std::size_t source_points) {
+  blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
+}
+
+void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,
+                               const AssociationTable& assoc, const WeightParams& weights,
+                               const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
+                               double* r_sq, int num_threads, Evaluation* out) {
+  const std::size_t n = source.size();
+  const std::size_t k = static_cast<std::size_t>(assoc.k);
+  const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    BlockSums s;
+    s.S0 = s.cost = s.cost_prev = 0.0;
+    s.S1.setZero();
+    s.ebar.setZero();
+    s.ebar_cross_p.setZero();
+    s.S2.setZero();
+    const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
+    const std::size_t end = std::min(n, begin + kBlockSize);
+    for (std::size_t j = begin; j < end; ++j) {
+      const std::size_t count = assoc.count[j];
+      if (count == 0) continue;
+      const std::size_t slot = j * k;
+      const Eigen::Vector3d p = R * source[j] + t;
+      // Residuals of the point's pairs.
+      for (std::size_t m = 0; m < count; ++m) {
+        r_sq[slot + m] = (target[assoc.index[slot + m]] - p).squaredNorm();
+      }
+      if (w_prev != nullptr) {
+        for (std::size_t m = 0; m < count; ++m) s.cost_prev += w_prev[slot + m] * r_sq[slot + m];
+      }
+      // E-step at this pose (eq. 2-4).
+      compute_weights(weights.model, weights.dof, weights.inv_scale_sq, &r_sq[slot], count,
+                      &w_new[slot]);
+      // W_j, sum_k w y_k and the cost under the new weights.
+      double W = 0.0;
+      Eigen::Vector3d wy = Eigen::Vector3d::Zero();
+      for (std::size_t m = 0; m < count; ++m) {
+        const double w = w_new[slot + m];
+        W += w;
+        wy += w * target[assoc.index[slot + m]];
+        s.cost += w * r_sq[slot + m];
+      }
+      const Eigen::Vector3d ebar = wy - W * p;  // sum_k w_kj e_kj
+      s.S0 += W;
+      s.S1 += W * p;
+      s.S2.noalias() += (W * p) * p.transpose();
+      s.ebar += ebar;
+      s.ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
+    }
+    blocks_[static_cast<std::size_t>(b)] = s;
+  });
+
+  // Ordered reduction over blocks: independent of the thread count.
+  double S0 = 0.0, cost = 0.0, cost_prev = 0.0;
+  Eigen::Vector3d S1 = Eigen::Vector3d::Zero(), ebar = Eigen::Vector3d::Zero(),
+                  ebar_cross_p = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d S2 = Eigen::Matrix3d::Zero();
+  for (std::size_t b = 0; b < n_blocks; ++b) {
+    const BlockSums& s = blocks_[b];
+    S0 += s.S0;
+    S1 += s.S1;
+    S2 += s.S2;
+    ebar += s.ebar;
+    ebar_cross_p += s.ebar_cross_p;
+    cost += s.cost;
+    cost_prev += s.cost_prev;
+  }
+  out->cost = 0.5 * cost;
+  out->cost_prev_weights = 0.5 * cost_prev;
+  out->weight_sum = S0;
+  out->H.topLeftCorner<3, 3>() = S2.trace() * Eigen::Matrix3d::Identity() - S2;
+  out->H.topRightCorner<3, 3>() = se3::skew(S1);
+  out->H.bottomLeftCorner<3, 3>() = -se3::skew(S1);
+  out->H.bottomRightCorner<3, 3>() = S0 * Eigen::Matrix3d::Identity();
+  out->g.head<3>() = ebar_cross_p;
+  out->g.tail<3>() = -ebar;
+}
+
+}  // namespace detail
+}  // namespace ppcr

@@ -1,0 +1,71 @@
+// normal_equations.hpp - one pass over the associations at a pose: residuals, E-step weights,
+// costs, and the Gauss-Newton system H delta = -g of the weighted cost.
+//
+// With the twist delta = (omega, v) applied on the left (se3.hpp), the error of pair (j, k) is
+// e_kj = y_k - p_j, p_j = T x_j, and its Jacobian  J_j = [ [p_j]_x | -I ]  is the same for every
+// neighbour k of source point j (ALGORITHM.md). So, with W_j = sum_k w_kj and
+// ebar_j = sum_k w_kj e_kj = sum_k w_kj y_k - W_j p_j,
+//   H = sum_j W_j J_j^T J_j,   g = sum_j J_j^T ebar_j,   cost = 1/2 sum_kj w_kj |e_kj|^2.
+// Expanding J_j^T J_j = [ |p|^2 I - p p^T , [p]_x ; -[p]_x , I ] shows H depends on the source
+// points only through S0 = sum W_j, S1 = sum W_j p_j and S2 = sum W_j p_j p_j^T:
+//   H = [ tr(S2) I - S2 , [S1]_x ; -[S1]_x , S0 I ],   g = [ sum ebar_j x p_j ; -sum ebar_j ].
+// So each source point adds 16 numbers, not a 6x6 outer product per pair.
+//
+// Reduction: source points are cut into fixed blocks of kBlockSize (independent of the thread
+// count); each block is summed serially into its own slot, then the slots are summed in order.
+// The result is bit-identical whatever the number of threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "association.hpp"
+#include "ppcr/weights.hpp"
+
+namespace ppcr {
+namespace detail {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+struct WeightParams {
+  WeightModel model = WeightModel::kStudentT;
+  double dof = 5.0;
+  double inv_scale_sq = 1.0;  // 1 / s^2
+};
+
+struct Evaluation {
+  double cost = 0.0;               // 1/2 sum w_new |e|^2 (weights computed at this pose)
+  double cost_prev_weights = 0.0;  // 1/2 sum w_prev |e|^2 (when w_prev was given, else 0)
+  double weight_sum = 0.0;         // sum of w_new
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+};
+
+class NormalEquations {
+ public:
+  static constexpr std::size_t kBlockSize = 256;
+
+  /// Sizes the per-block partial sums (set-up, not in the loop).
+  void resize(std::size_t source_points);
+
+  /// One pass at pose T (maps source into the target's frame): r_sq[j*k+m] = |e|^2,
+  /// w_new[j*k+m] = E-step weights at T, and out = costs, H and g under w_new. If w_prev is not
+  /// null, also the cost at T under w_prev (the LM step test compares costs under the same
+  /// weights). Arrays have the association table's stride k.
+  void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
+                const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,
+                double* w_new, double* r_sq, int num_threads, Evaluation* out);
+
+ private:
+  struct BlockSums {
+    double S0, cost, cost_prev;
+    Eigen::Vector3d S1, ebar, ebar_cross_p;
+    Eigen::Matrix3d S2;
+  };
+  std::vector<BlockSums> blocks_;
+};
+
+}  // namespace detail
+}  // namespace ppcr

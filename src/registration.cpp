@@ -1,0 +1,363 @@
+// registration.cpp - the outer loop (paper Sec. 3.2): associate, solve, compose, ask the
+// termination monitor. Nothing else lives here.
+//
+// Internal frame: both clouds are shifted by their centroids (o_t for the target, o_s for the
+// source), so that coordinates are small even for georeferenced clouds and the left-perturbation
+// twist acts about the target's centroid. A pose T in that frame maps to
+//   T_target_source = Tr(o_t) * T * Tr(-o_s).
+#include "ppcr/registration.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "association.hpp"
+#include "kdtree.hpp"
+#include "lm_solver.hpp"
+#include "ppcr/metrics.hpp"
+#include "ppcr/voxel.hpp"
+#include "scale_schedule.hpp"
+
+namespace ppcr {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, what); }
+
+bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
+
+// Drops non-finite points; optionally voxel-filters. Returns the number dropped in *dropped.
+Status prepare_cloud(const PointCloud& in, double voxel, const char* name, PointCloud* out,
+                     std::size_t* dropped) {
+  out->clear();
+  out->reserve(in.size());
+  for (const Eigen::Vector3d& p : in) {
+    if (p.allFinite()) out->push_back(p);
+  }
+  *dropped = in.size() - out->size();
+  if (voxel > 0.0 && !out->empty()) {
+    PointCloud filtered;
+    Status s = voxel_downsample(*out, voxel, &filtered);
+    if (!s.ok()) return Status(s.code(), std::string(name) + ": " + s.message());
+    *out = std::move(filtered);
+  }
+  if (out->size() < 3) {
+    return Status(StatusCode::kEmptyCloud,
+                  std::string(name) + " has " + std::to_string(out->size()) +
+                      " usable point(s) (of " + std::to_string(in.size()) + ", " +
+                      std::to_string(*dropped) + " non-finite" +
+                      (voxel > 0.0 ? ", after a voxel filter of " + num(voxel) : std::string()) +
+                      "); at least 3 are needed");
+  }
+  return Status::Ok();
+}
+
+Eigen::Vector3d centroid(const PointCloud& cloud) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : cloud) sum += p;
+  return sum / static_cast<double>(cloud.size());
+}
+
+std::string extent(const PointCloud& cloud, const Eigen::Isometry3d& T) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+  for (const Eigen::Vector3d& p : cloud) {
+    const Eigen::Vector3d q = T * p;
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  return "[" + num(lo.x()) + ", " + num(hi.x()) + "] x [" + num(lo.y()) + ", " + num(hi.y()) +
+         "] x [" + num(lo.z()) + ", " + num(hi.z()) + "]";
+}
+
+Eigen::Isometry3d translation(const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = t;
+  return T;
+}
+
+}  // namespace
+
+Status validate(const RegistrationOptions& o) {
+  if (!finite_positive(o.radius)) return invalid("radius must be > 0, got " + num(o.radius));
+  if (o.max_neighbours < 1 || o.max_neighbours > detail::AssociationTable::kMaxNeighbours) {
+    return invalid("max_neighbours must be in [1, 1024], got " + std::to_string(o.max_neighbours));
+  }
+  const WeightOptions& w = o.weights;
+  if (w.model == WeightModel::kStudentT && !finite_positive(w.dof)) {
+    return invalid("dof must be > 0, got " + num(w.dof));
+  }
+  if (w.scale_mode == ScaleMode::kFixed && !finite_positive(w.scale)) {
+    return invalid("a fixed scale must be > 0, got " + num(w.scale));
+  }
+  if (!(std::isfinite(w.scale) && w.scale >= 0.0)) {
+    return invalid("scale must be >= 0, got " + num(w.scale));
+  }
+  if (!(std::isfinite(w.em_coarse_drop)) || w.em_coarse_patience < 0 ||
+      !(std::isfinite(w.em_coarse_motion) && w.em_coarse_motion >= 0.0)) {
+    return invalid("em_coarse_drop must be finite, em_coarse_patience and em_coarse_motion >= 0");
+  }
+  if (!(w.em_min_shrink > 0.0 && w.em_min_shrink <= 1.0)) {
+    return invalid("em_min_shrink must be in (0, 1], got " + num(w.em_min_shrink));
+  }
+  if (!(std::isfinite(w.em_min_scale) && w.em_min_scale >= 0.0)) {
+    return invalid("em_min_scale must be >= 0, got " + num(w.em_min_scale));
+  }
+  for (double v : {o.source_voxel, o.target_voxel}) {
+    if (!(std::isfinite(v) && v >= 0.0)) return invalid("voxel leaf must be >= 0, got " + num(v));
+  }
+  if (o.num_threads < 1 || o.num_threads > 1024) {
+    return invalid("num_threads must be in [1, 1024], got " + std::to_string(o.num_threads));
+  }
+  const LMOptions& lm = o.lm;
+  if (lm.max_iterations < 1) {
+    return invalid("lm.max_iterations must be >= 1, got " + std::to_string(lm.max_iterations));
+  }
+  for (double v : {lm.function_tolerance, lm.gradient_tolerance, lm.step_tolerance}) {
+    if (!(std::isfinite(v) && v >= 0.0))
+      return invalid("LM tolerances must be >= 0, got " + num(v));
+  }
+  if (!finite_positive(lm.initial_lambda) || !(lm.max_lambda > lm.initial_lambda)) {
+    return invalid("LM needs 0 < initial_lambda < max_lambda, got " + num(lm.initial_lambda) +
+                   " and " + num(lm.max_lambda));
+  }
+  const TerminationCriteria& c = o.termination;
+  if (c.criteria & ~std::uint32_t{0xF}) {
+    return invalid("unknown termination criterion bits " + std::to_string(c.criteria));
+  }
+  if (c.max_iterations < 1) {
+    return invalid("max_iterations must be >= 1, got " + std::to_string(c.max_iterations));
+  }
+  if (c.fixed_iterations < 1) {
+    return invalid("fixed_iterations must be >= 1, got " + std::to_string(c.fixed_iterations));
+  }
+  if (!std::isfinite(c.cost_drop_threshold)) {
+    return invalid("cost_drop_threshold must be finite, got " + num(c.cost_drop_threshold));
+  }
+  if (c.cost_drop_patience < 0 || c.mse_patience < 0 || c.successful_steps_patience < 0) {
+    return invalid("patience values must be >= 0");
+  }
+  if (!finite_positive(c.mse_ratio_threshold)) {
+    return invalid("mse_ratio_threshold must be > 0, got " + num(c.mse_ratio_threshold));
+  }
+  return Status::Ok();
+}
+
+struct Registration::Impl {
+  RegistrationOptions options;
+  Status options_status;
+  // Target, centred: target_centered = target - target_origin.
+  PointCloud target_centered;
+  Eigen::Vector3d target_origin = Eigen::Vector3d::Zero();
+  std::size_t target_non_finite = 0;
+  bool has_target = false;
+  detail::KdTree tree;
+  // Per-alignment buffers, kept between calls so same-size registrations reuse them.
+  PointCloud source_filtered, source_centered;
+  detail::AssociationTable assoc;
+  detail::LMSolver lm;
+};
+
+Registration::Registration(const RegistrationOptions& options) : impl_(new Impl) {
+  impl_->options = options;
+  impl_->options_status = validate(options);
+}
+Registration::~Registration() = default;
+Registration::Registration(Registration&&) noexcept = default;
+Registration& Registration::operator=(Registration&&) noexcept = default;
+
+const RegistrationOptions& Registration::options() const { return impl_->options; }
+
+Status Registration::set_target(const PointCloud& target) {
+  Impl& m = *impl_;
+  m.has_target = false;
+  if (!m.options_status.ok()) return m.options_status;
+  PointCloud filtered;
+  Status s =
+      prepare_cloud(target, m.options.target_voxel, "target", &filtered, &m.target_non_finite);
+  if (!s.ok()) return s;
+  m.target_origin = centroid(filtered);
+  m.target_centered.resize(filtered.size());
+  for (std::size_t i = 0; i < filtered.size(); ++i) {
+    m.target_centered[i] = filtered[i] - m.target_origin;
+  }
+  s = m.tree.build(m.target_centered);
+  if (!s.ok()) return s;
+  m.has_target = true;
+  return Status::Ok();
+}
+
+RegistrationResult Registration::align(const PointCloud& source, const Eigen::Isometry3d& T_initial,
+                                       const Eigen::Isometry3d* T_ground_truth) {
+  Impl& m = *impl_;
+  const RegistrationOptions& o = m.options;
+  RegistrationResult result;
+  result.T_target_source = T_initial;
+  auto refuse = [&](Status s) {
+    result.status = std::move(s);
+    result.stop_reason = StopReason::kInvalidInput;
+    return result;
+  };
+  if (!m.options_status.ok()) return refuse(m.options_status);
+  if (!m.has_target) {
+    return refuse(Status(StatusCode::kEmptyCloud,
+                         "no target: call set_target() first "
+                         "(or it failed)"));
+  }
+  if (!T_initial.matrix().allFinite()) {
+    return refuse(invalid("the initial guess has non-finite entries"));
+  }
+  {
+    Status s = prepare_cloud(source, o.source_voxel, "source", &m.source_filtered,
+                             &result.source_non_finite);
+    if (!s.ok()) return refuse(s);
+  }
+  const PointCloud& src = m.source_filtered;
+  const std::size_t n = src.size();
+  result.source_points = n;
+  result.target_points = m.target_centered.size();
+  result.target_non_finite = m.target_non_finite;
+
+  // Internal frame (see the file comment).
+  const Eigen::Vector3d source_origin = centroid(src);
+  m.source_centered.resize(n);
+  double extent_sq = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    m.source_centered[i] = src[i] - source_origin;
+    extent_sq = std::max(extent_sq, m.source_centered[i].squaredNorm());
+  }
+  const Eigen::Isometry3d to_target = translation(m.target_origin);
+  const Eigen::Isometry3d from_source = translation(-source_origin);
+  auto to_external = [&](const Eigen::Isometry3d& T) { return to_target * T * from_source; };
+  Eigen::Isometry3d T = to_target.inverse() * T_initial * from_source.inverse();
+
+  // Set-up allocations (reused when the next source has the same size).
+  const int k = o.max_neighbours;
+  m.assoc.resize(n, k);
+  m.lm.resize(n, k);
+  const CloudMoments moments = compute_moments(src);
+  TerminationMonitor monitor(o.termination, moments, T_initial);
+  if (o.record_history)
+    result.history.reserve(static_cast<std::size_t>(std::min(o.termination.max_iterations, 1000)));
+
+  detail::LMProblem problem;
+  problem.source = &m.source_centered;
+  problem.target = &m.target_centered;
+  problem.assoc = &m.assoc;
+  problem.weights.model = o.weights.model;
+  problem.weights.dof = o.weights.dof;
+  problem.num_threads = o.num_threads;
+  problem.step_reference = o.radius;
+  problem.source_extent = std::sqrt(extent_sq);
+
+  detail::ScaleSchedule scale(o.weights, o.radius);  // E-step scale s (weights.hpp)
+  const double radius_sq = o.radius * o.radius;
+
+  using Clock = std::chrono::steady_clock;
+  StopReason reason = StopReason::kNone;
+  for (int t = 1; reason == StopReason::kNone; ++t) {
+    const Clock::time_point start = Clock::now();
+    detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
+    result.matched_source_points = m.assoc.matched;
+    result.correspondences = m.assoc.pairs;
+    if (m.assoc.pairs == 0) {
+      reason = StopReason::kNoCorrespondences;
+      if (t == 1) {
+        result.status =
+            Status(StatusCode::kNoCorrespondences,
+                   "no source point has a target point within radius " + num(o.radius) +
+                       "; source (moved by the initial guess) spans " + extent(src, T_initial) +
+                       ", target spans " + extent(m.target_centered, to_target));
+      }
+      break;
+    }
+    const double scale_sq = scale.scale_sq();
+    problem.weights.inv_scale_sq = 1.0 / scale_sq;
+
+    const LMSummary lm = m.lm.solve(o.lm, problem, &T);
+    result.lm_iterations += lm.iterations;
+    result.lm_successful_steps += lm.successful_steps;
+    if (t == 1) result.initial_cost = lm.initial_cost;
+    result.final_cost = lm.final_cost;
+    result.T_target_source = to_external(T);
+    result.iterations = t;
+
+    IterationReport report;
+    report.iteration = t;
+    report.lm = lm;
+    report.T_target_source = result.T_target_source;
+    report.scale_settling = scale.settling();
+    reason = lm.termination == LMTermination::kNumericalFailure ? StopReason::kNumericalFailure
+                                                                : monitor.update(report);
+    if (reason == StopReason::kNumericalFailure) {
+      result.status = Status(StatusCode::kNumericalFailure,
+                             "non-finite cost or step in outer iteration " + std::to_string(t));
+    }
+    // EM estimate of s^2 at the final pose: sum w r / (3 N) = 2 final_cost / (3 N).
+    scale.update(monitor.last_cost_drop(), std::sqrt(monitor.last_mse_prev()),
+                 2.0 * lm.final_cost / (3.0 * static_cast<double>(m.assoc.matched)));
+    if (o.record_history) {
+      IterationRecord r;
+      r.iteration = t;
+      r.successful_steps = lm.successful_steps;
+      r.unsuccessful_steps = lm.unsuccessful_steps;
+      r.initial_cost = lm.initial_cost;
+      r.final_cost = lm.final_cost;
+      r.cost_drop = monitor.last_cost_drop();
+      r.mse_prev = monitor.last_mse_prev();
+      if (T_ground_truth != nullptr) {
+        r.mse_ground_truth = mse_between(moments, result.T_target_source, *T_ground_truth);
+        r.benchmark_error = benchmark_error(src, *T_ground_truth, result.T_target_source);
+      }
+      r.scale = std::sqrt(scale_sq);
+      r.correspondences = m.assoc.pairs;
+      r.matched_source_points = m.assoc.matched;
+      r.T_target_source = result.T_target_source;
+      r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      result.history.push_back(r);
+    }
+  }
+  result.stop_reason = reason;
+  result.scale = std::sqrt(scale.scale_sq());
+
+  // Information at the final pose and the directions it leaves free. Rotations are scaled by the
+  // source's RMS radius so that both blocks are in (cloud units)^2 before comparing eigenvalues.
+  result.information = m.lm.last().H;
+  const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
+  Eigen::Matrix<double, 6, 1> s;
+  s << 1.0 / rms, 1.0 / rms, 1.0 / rms, 1.0, 1.0, 1.0;
+  const Eigen::Matrix<double, 6, 6> normalised =
+      s.asDiagonal() * result.information * s.asDiagonal();
+  if (normalised.allFinite() && normalised.diagonal().maxCoeff() > 0.0) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(normalised,
+                                                                   Eigen::EigenvaluesOnly);
+    const Eigen::Matrix<double, 6, 1> ev = eig.eigenvalues();
+    result.degenerate_directions = static_cast<int>((ev.array() < 1e-6 * ev.maxCoeff()).count());
+  }
+  return result;
+}
+
+RegistrationResult align(const PointCloud& source, const PointCloud& target,
+                         const RegistrationOptions& options, const Eigen::Isometry3d& T_initial,
+                         const Eigen::Isometry3d* T_ground_truth) {
+  Registration registration(options);
+  Status s = registration.set_target(target);
+  if (!s.ok()) {
+    RegistrationResult result;
+    result.status = s;
+    result.stop_reason = StopReason::kInvalidInput;
+    result.T_target_source = T_initial;
+    return result;
+  }
+  return registration.align(source, T_initial, T_ground_truth);
+}
+
+}  // namespace ppcr
