@@ -1,8 +1,11 @@
 // normal_equations.cpp - fused residuals / weights / normal equations pass (see header).
 #include "normal_equations.hpp"
 
+#include <cstdint>
+
 #include "parallel.hpp"
 #include "ppcr/se3.hpp"
+#include "weight_kernel.hpp"
 
 namespace ppcr {
 namespace detail {
@@ -20,48 +23,52 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
-
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    BlockSums s;
-    s.S0 = s.cost = s.cost_prev = 0.0;
-    s.S1.setZero();
-    s.ebar.setZero();
-    s.ebar_cross_p.setZero();
-    s.S2.setZero();
-    const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
-    const std::size_t end = std::min(n, begin + kBlockSize);
-    for (std::size_t j = begin; j < end; ++j) {
-      const std::size_t count = assoc.count[j];
-      if (count == 0) continue;
-      const std::size_t slot = j * k;
-      const Eigen::Vector3d p = R * source[j] + t;
-      // Residuals of the point's pairs.
-      for (std::size_t m = 0; m < count; ++m) {
-        r_sq[slot + m] = (target[assoc.index[slot + m]] - p).squaredNorm();
+  with_weight_kernel(weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {
+    parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+      BlockSums s;
+      s.S0 = s.cost = s.cost_prev = 0.0;
+      s.S1.setZero();
+      s.ebar.setZero();
+      s.ebar_cross_p.setZero();
+      s.S2.setZero();
+      const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
+      const std::size_t end = std::min(n, begin + kBlockSize);
+      for (std::size_t j = begin; j < end; ++j) {
+        const std::size_t count = assoc.count[j];
+        if (count == 0) continue;
+        const std::size_t slot = j * k;
+        const std::uint32_t* idx = &assoc.index[slot];
+        double* r = &r_sq[slot];
+        double* w = &w_new[slot];
+        const Eigen::Vector3d p = R * source[j] + t;
+        // Residuals of the point's pairs (and the cost under the previous weights).
+        for (std::size_t m = 0; m < count; ++m) r[m] = (target[idx[m]] - p).squaredNorm();
+        if (w_prev != nullptr) {
+          const double* wp = &w_prev[slot];
+          for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
+        }
+        // E-step at this pose (eq. 2-4): w = c * u.
+        const PointWeights pw = e_step(r, count, w);
+        // W_j, sum_k w y_k and the cost, accumulated with u and scaled by c once.
+        double U = 0.0, ur = 0.0;
+        Eigen::Vector3d uy = Eigen::Vector3d::Zero();
+        for (std::size_t m = 0; m < count; ++m) {
+          U += w[m];
+          ur += w[m] * r[m];
+          uy += w[m] * target[idx[m]];
+          w[m] *= pw.c;
+        }
+        const double W = pw.c * U;
+        const Eigen::Vector3d ebar = pw.c * uy - W * p;  // sum_k w_kj e_kj
+        s.cost += pw.c * ur;
+        s.S0 += W;
+        s.S1 += W * p;
+        s.S2.noalias() += (W * p) * p.transpose();
+        s.ebar += ebar;
+        s.ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
       }
-      if (w_prev != nullptr) {
-        for (std::size_t m = 0; m < count; ++m) s.cost_prev += w_prev[slot + m] * r_sq[slot + m];
-      }
-      // E-step at this pose (eq. 2-4).
-      compute_weights(weights.model, weights.dof, weights.inv_scale_sq, &r_sq[slot], count,
-                      &w_new[slot]);
-      // W_j, sum_k w y_k and the cost under the new weights.
-      double W = 0.0;
-      Eigen::Vector3d wy = Eigen::Vector3d::Zero();
-      for (std::size_t m = 0; m < count; ++m) {
-        const double w = w_new[slot + m];
-        W += w;
-        wy += w * target[assoc.index[slot + m]];
-        s.cost += w * r_sq[slot + m];
-      }
-      const Eigen::Vector3d ebar = wy - W * p;  // sum_k w_kj e_kj
-      s.S0 += W;
-      s.S1 += W * p;
-      s.S2.noalias() += (W * p) * p.transpose();
-      s.ebar += ebar;
-      s.ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
-    }
-    blocks_[static_cast<std::size_t>(b)] = s;
+      blocks_[static_cast<std::size_t>(b)] = s;
+    });
   });
 
   // Ordered reduction over blocks: independent of the thread count.

@@ -304,7 +304,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     // EM estimate of s^2 at the final pose: sum w r / (3 N) = 2 final_cost / (3 N).
     scale.update(monitor.last_cost_drop(), std::sqrt(monitor.last_mse_prev()),
                  2.0 * lm.final_cost / (3.0 * static_cast<double>(m.assoc.matched)));
-    if (o.record_history) {
+    if (o.record_history || o.on_iteration) {
       IterationRecord r;
       r.iteration = t;
       r.successful_steps = lm.successful_steps;
@@ -322,7 +322,10 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       r.matched_source_points = m.assoc.matched;
       r.T_target_source = result.T_target_source;
       r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-      result.history.push_back(r);
+      if (o.on_iteration && !o.on_iteration(r) && reason == StopReason::kNone) {
+        reason = StopReason::kCancelled;
+      }
+      if (o.record_history) result.history.push_back(r);
     }
   }
   result.stop_reason = reason;

@@ -29,6 +29,8 @@ const char* to_string(StopReason reason) {
       return "numerical_failure";
     case StopReason::kInvalidInput:
       return "invalid_input";
+    case StopReason::kCancelled:
+      return "cancelled";
   }
   return "unknown";
 }

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -35,6 +36,10 @@ struct RegistrationOptions {
   int num_threads = 1;              // threads for association and reductions (>= 1; the result
                                     // does not depend on it)
   bool record_history = true;       // keep one IterationRecord per outer iteration in the result
+  /// Called on the calling thread after each outer iteration with that iteration's record
+  /// (progress display, time budgets). Return false to stop: StopReason::kCancelled.
+  /// Must not throw.
+  std::function<bool(const struct IterationRecord&)> on_iteration;
 };
 
 /// One row of the per-iteration trace.

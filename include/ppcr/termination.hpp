@@ -67,6 +67,7 @@ enum class StopReason {
   kNoCorrespondences,  // an outer iteration found no source point with a neighbour in the radius
   kNumericalFailure,   // the LM solve failed (non-finite values)
   kInvalidInput,       // registration refused its input (see RegistrationResult::status)
+  kCancelled,          // RegistrationOptions::on_iteration returned false
 };
 
 const char* to_string(StopReason reason);

@@ -1,0 +1,175 @@
+// microbench.cpp - the hot loops of a registration, one at a time, on a synthetic surface:
+// k-d tree build, radius-limited kNN, association of a whole cloud, the E-step of one source
+// point, the fused residual/weight/normal-equations pass, one LM solve, and a whole registration.
+//   build/.../benchmarks/ppcr_microbench [--benchmark_filter=...]
+// Sizes: N source points (argument), target = N points of the same surface, k = 10.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "association.hpp"
+#include "kdtree.hpp"
+#include "lm_solver.hpp"
+#include "normal_equations.hpp"
+#include "ppcr/registration.hpp"
+#include "ppcr/se3.hpp"
+#include "ppcr/weights.hpp"
+
+namespace {
+
+// A wavy surface z = 0.1 sin(3x) cos(2y) over [-1, 1]^2 plus a bump, with 1 mm noise: curved
+// everywhere, so all six degrees of freedom are constrained. Units: metres.
+ppcr::PointCloud surface(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  ppcr::PointCloud cloud(n);
+  for (auto& p : cloud) {
+    const double x = u(rng), y = u(rng);
+    const double z = 0.1 * std::sin(3 * x) * std::cos(2 * y) + 0.2 * std::exp(-4 * (x * x + y * y));
+    p = Eigen::Vector3d(x, y, z + noise(rng));
+  }
+  return cloud;
+}
+
+Eigen::Isometry3d small_motion() {
+  ppcr::se3::Vector6d xi;
+  xi << 0.02, -0.03, 0.05, 0.03, 0.02, -0.01;
+  return ppcr::se3::exp(xi);
+}
+
+constexpr int kNeighbours = 10;
+constexpr double kRadius = 0.1;
+
+void BM_KdTreeBuild(benchmark::State& state) {
+  const ppcr::PointCloud target = surface(static_cast<std::size_t>(state.range(0)), 1);
+  for (auto _ : state) {
+    ppcr::detail::KdTree tree;
+    benchmark::DoNotOptimize(tree.build(target));
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+void BM_RadiusKnnQuery(benchmark::State& state) {
+  const ppcr::PointCloud target = surface(static_cast<std::size_t>(state.range(0)), 1);
+  const ppcr::PointCloud queries = surface(4096, 2);
+  ppcr::detail::KdTree tree;
+  (void)tree.build(target);
+  std::uint32_t idx[kNeighbours];
+  double d2[kNeighbours];
+  std::size_t q = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        tree.radius_knn(queries[q++ & 4095], kNeighbours, kRadius * kRadius, idx, d2));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Associate(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  const ppcr::PointCloud target = surface(n, 1), source = surface(n, 2);
+  ppcr::detail::KdTree tree;
+  (void)tree.build(target);
+  ppcr::detail::AssociationTable table;
+  table.resize(n, kNeighbours);
+  for (auto _ : state) {
+    ppcr::detail::associate(tree, source, small_motion(), kRadius * kRadius, threads, &table);
+    benchmark::DoNotOptimize(table.pairs);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+void BM_EStepOnePoint(benchmark::State& state) {
+  double r_sq[kNeighbours], w[kNeighbours];
+  for (int k = 0; k < kNeighbours; ++k) r_sq[k] = 1e-4 * (k + 1);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        ppcr::compute_weights(ppcr::WeightModel::kStudentT, 5.0, 1e4, r_sq, kNeighbours, w));
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kNeighbours);
+}
+
+struct Fixture {
+  explicit Fixture(std::size_t n) : target(surface(n, 1)), source(surface(n, 2)) {
+    (void)tree.build(target);
+    table.resize(n, kNeighbours);
+    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), kRadius * kRadius, 1,
+                            &table);
+    w_prev.assign(n * kNeighbours, 1.0);
+    w_new.assign(n * kNeighbours, 0.0);
+    r_sq.assign(n * kNeighbours, 0.0);
+    ne.resize(n);
+  }
+  ppcr::PointCloud target, source;
+  ppcr::detail::KdTree tree;
+  ppcr::detail::AssociationTable table;
+  std::vector<double> w_prev, w_new, r_sq;
+  ppcr::detail::NormalEquations ne;
+};
+
+void BM_NormalEquations(benchmark::State& state) {
+  Fixture f(static_cast<std::size_t>(state.range(0)));
+  const int threads = static_cast<int>(state.range(1));
+  ppcr::detail::WeightParams wp;
+  wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
+  ppcr::detail::Evaluation out;
+  for (auto _ : state) {
+    f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
+                  f.r_sq.data(), threads, &out);
+    benchmark::DoNotOptimize(out.H);
+  }
+  state.counters["pairs"] = static_cast<double>(f.table.pairs);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
+}
+
+void BM_LMSolve(benchmark::State& state) {
+  Fixture f(static_cast<std::size_t>(state.range(0)));
+  ppcr::detail::LMSolver solver;
+  solver.resize(f.source.size(), kNeighbours);
+  ppcr::detail::LMProblem pb;
+  pb.source = &f.source;
+  pb.target = &f.target;
+  pb.assoc = &f.table;
+  pb.weights.inv_scale_sq = 1.0 / (0.01 * 0.01);
+  pb.step_reference = kRadius;
+  pb.source_extent = 1.5;
+  int steps = 0;
+  for (auto _ : state) {
+    Eigen::Isometry3d T = small_motion();
+    steps += solver.solve(ppcr::LMOptions(), pb, &T).iterations;
+  }
+  state.counters["lm_steps"] = benchmark::Counter(steps, benchmark::Counter::kAvgIterations);
+}
+
+void BM_Registration(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  const ppcr::PointCloud target = surface(n, 1), source_raw = surface(n, 2);
+  ppcr::PointCloud source(n);
+  const Eigen::Isometry3d motion = small_motion();
+  for (std::size_t i = 0; i < n; ++i) source[i] = motion.inverse() * source_raw[i];
+  ppcr::RegistrationOptions options;
+  options.radius = kRadius;
+  options.num_threads = static_cast<int>(state.range(1));
+  options.record_history = false;
+  ppcr::Registration registration(options);
+  (void)registration.set_target(target);
+  int iterations = 0;
+  for (auto _ : state) iterations += registration.align(source).iterations;
+  state.counters["outer_iterations"] =
+      benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+}
+
+}  // namespace
+
+BENCHMARK(BM_KdTreeBuild)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RadiusKnnQuery)->Arg(10000)->Arg(100000);
+BENCHMARK(BM_Associate)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EStepOnePoint);
+BENCHMARK(BM_NormalEquations)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Registration)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

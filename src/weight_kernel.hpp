@@ -1,0 +1,133 @@
+// weight_kernel.hpp - the E-step of one source point (paper eq. 2-4) in ratio form.
+//
+// With z_k = r_k / s^2 and z_min the smallest of a point's z_k:
+//  Student-t: the posterior ratios need no logarithm,
+//     q_k = (nu + z_min) / (nu + z_k)  in (0, 1],     p_k / p_max = q_k^e,  e = (nu + d) / 2,
+//   and the expected precision is (nu + d) / (nu + z_k) = q_k (nu + d) / (nu + z_min), so
+//     w_k = pi_k (nu + d) / (nu + z_k) = u_k * c,   u_k = q_k^(e + 1),
+//     c = (nu + d) / ((nu + z_min) * sum_m q_m^e).
+//  Gaussian: u_k = exp(-(z_k - z_min) / 2), c = 1 / sum_m u_m.
+// The closest neighbour has p_k / p_max = 1, so the sum is >= 1: this is the log-sum-exp trick
+// in ratio form, and the weights never all underflow. Callers accumulate with the unnormalised
+// u_k and multiply the point's sums by c once.
+//
+// The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
+// integer or half-integer e up to 32 by squaring, otherwise std::pow.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "ppcr/weights.hpp"
+
+namespace ppcr {
+namespace detail {
+
+/// Unnormalised weights of one point: u[k] and the factor c with w_k = c * u_k.
+struct PointWeights {
+  double c = 0.0;            // normaliser (see file comment)
+  double log_sum_exp = 0.0;  // logsumexp_k log p_k, constants dropped
+};
+
+/// q^e: the default nu = 5 (e = 4).
+struct PowerFour {
+  double operator()(double q) const {
+    const double q2 = q * q;
+    return q2 * q2;
+  }
+};
+/// q^e for 2e an integer <= 64.
+struct PowerHalfInteger {
+  int whole;
+  bool half;
+  double operator()(double q) const {
+    double result = half ? std::sqrt(q) : 1.0;
+    double base = q;
+    for (int n = whole; n > 0; n >>= 1) {
+      if (n & 1) result *= base;
+      base *= base;
+    }
+    return result;
+  }
+};
+/// q^e, any e.
+struct PowerGeneral {
+  double e;
+  double operator()(double q) const { return std::pow(q, e); }
+};
+
+/// Student-t E-step of n >= 1 squared errors: writes u[0..n), returns c and the log-sum-exp.
+template <class Power>
+inline PointWeights student_t_weights(const Power& power, double dof, double exponent,
+                                      double inv_scale_sq, const double* r_sq, std::size_t n,
+                                      double* u) {
+  double z_min = r_sq[0] * inv_scale_sq;
+  for (std::size_t k = 1; k < n; ++k) {
+    const double z = r_sq[k] * inv_scale_sq;
+    z_min = z < z_min ? z : z_min;
+  }
+  const double nu_z_min = dof + z_min;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double q = nu_z_min / (dof + r_sq[k] * inv_scale_sq);
+    const double p = power(q);
+    sum += p;
+    u[k] = p * q;
+  }
+  PointWeights out;
+  out.c = (dof + 3.0) / (nu_z_min * sum);
+  out.log_sum_exp = -exponent * std::log1p(z_min / dof) + std::log(sum);
+  return out;
+}
+
+/// Gaussian E-step of n >= 1 squared errors: writes u[0..n), returns c and the log-sum-exp.
+inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, std::size_t n,
+                                     double* u) {
+  double z_min = r_sq[0] * inv_scale_sq;
+  for (std::size_t k = 1; k < n; ++k) {
+    const double z = r_sq[k] * inv_scale_sq;
+    z_min = z < z_min ? z : z_min;
+  }
+  double sum = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    u[k] = std::exp(-0.5 * (r_sq[k] * inv_scale_sq - z_min));
+    sum += u[k];
+  }
+  PointWeights out;
+  out.c = 1.0 / sum;
+  out.log_sum_exp = -0.5 * z_min + std::log(sum);
+  return out;
+}
+
+/// Calls f(kernel) with kernel(r_sq, n, u) -> PointWeights specialised for the model and dof,
+/// so that the choice is made once per pass, not once per point.
+template <class F>
+void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& f) {
+  if (model == WeightModel::kGaussian) {
+    f([=](const double* r_sq, std::size_t n, double* u) {
+      return gaussian_weights(inv_scale_sq, r_sq, n, u);
+    });
+    return;
+  }
+  const double exponent = 0.5 * (dof + 3.0);
+  const double twice = 2.0 * exponent;
+  if (exponent == 4.0) {
+    f([=](const double* r_sq, std::size_t n, double* u) {
+      return student_t_weights(PowerFour(), dof, exponent, inv_scale_sq, r_sq, n, u);
+    });
+  } else if (twice == std::floor(twice) && twice <= 64.0) {
+    const PowerHalfInteger power{static_cast<int>(std::floor(exponent)),
+                                 (static_cast<int>(twice) & 1) != 0};
+    f([=](const double* r_sq, std::size_t n, double* u) {
+      return student_t_weights(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+    });
+  } else {
+    const PowerGeneral power{exponent};
+    f([=](const double* r_sq, std::size_t n, double* u) {
+      return student_t_weights(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+    });
+  }
+}
+
+}  // namespace detail
+}  // namespace ppcr

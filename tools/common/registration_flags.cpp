@@ -1,0 +1,161 @@
+// registration_flags.cpp - CLI flags -> RegistrationOptions.
+#include "common/registration_flags.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace ppcr_tools {
+namespace {
+
+ppcr::Status bad(const std::string& flag, const std::string& value, const std::string& why) {
+  return ppcr::Status(ppcr::StatusCode::kInvalidArgument, flag + " " + value + ": " + why);
+}
+
+std::string str(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
+  app.add_option("--radius", f->radius,
+                 "association radius, cloud units (default " + str(f->radius) + ")");
+  app.add_option("--max-neighbours", f->max_neighbours,
+                 "target points associated with each source point (default " +
+                     std::to_string(f->max_neighbours) + ")");
+  app.add_option("--dof", f->dof, "Student-t degrees of freedom (default " + str(f->dof) + ")");
+  app.add_flag("--gaussian", f->gaussian, "Gaussian weights (paper eq. 2) instead of Student-t");
+  app.add_option("--scale", f->scale,
+                 "E-step scale: em (coarse-to-fine EM, default), raw (the paper's unit "
+                 "variance: depends on the data's units), or a fixed value in cloud units");
+  app.add_option("--coarse-scale", f->coarse_scale,
+                 "EM's coarse scale, cloud units (default 0 = radius / 2)");
+  app.add_option("--criterion", f->criterion,
+                 "termination: cost-drop (default), mse-prev, successful-steps, fixed, or a "
+                 "comma-separated combination (stops when any fires)");
+  app.add_option(
+      "--cost-drop-threshold", f->cost_drop_threshold,
+      "relative cost drop counted as low (default " + str(f->cost_drop_threshold) + " = 1 %)");
+  app.add_option("--patience", f->patience,
+                 "consecutive low iterations tolerated by cost-drop (default " +
+                     std::to_string(f->patience) + "; the paper also uses 20)");
+  app.add_option("--max-iterations", f->max_iterations,
+                 "hard cap on outer iterations; with --criterion fixed, the iterations run "
+                 "(default " +
+                     std::to_string(f->max_iterations) + ")");
+  app.add_option("--mse-ratio", f->mse_ratio,
+                 "mse-prev: low when MSE_t < MSE_{t-1} / this (default " + str(f->mse_ratio) + ")");
+  app.add_option("--mse-patience", f->mse_patience,
+                 "mse-prev: consecutive low iterations tolerated (default " +
+                     std::to_string(f->mse_patience) + ")");
+  app.add_option("--steps-threshold", f->steps_threshold,
+                 "successful-steps: low when LM accepted at most this many steps (default " +
+                     std::to_string(f->steps_threshold) + ")");
+  app.add_option("--source-voxel", f->source_voxel,
+                 "voxel-grid leaf for the source, cloud units (default 0 = off)");
+  app.add_option("--target-voxel", f->target_voxel,
+                 "voxel-grid leaf for the target, cloud units (default 0 = off)");
+  app.add_option("--threads", f->threads, "threads (default 1; results do not depend on it)");
+}
+
+ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o) {
+  *o = ppcr::RegistrationOptions();
+  o->radius = f.radius;
+  o->max_neighbours = f.max_neighbours;
+  o->weights.dof = f.dof;
+  o->weights.model = f.gaussian ? ppcr::WeightModel::kGaussian : ppcr::WeightModel::kStudentT;
+  if (f.scale == "em") {
+    o->weights.scale_mode = ppcr::ScaleMode::kEM;
+    o->weights.scale = f.coarse_scale;
+  } else if (f.scale == "raw") {
+    o->weights.scale_mode = ppcr::ScaleMode::kRaw;
+  } else {
+    errno = 0;
+    char* end = nullptr;
+    const double s = std::strtod(f.scale.c_str(), &end);
+    if (f.scale.empty() || *end != '\0' || errno != 0 || !(std::isfinite(s) && s > 0.0)) {
+      return bad("--scale", f.scale, "expected em, raw or a positive number");
+    }
+    o->weights.scale_mode = ppcr::ScaleMode::kFixed;
+    o->weights.scale = s;
+  }
+  if (!(std::isfinite(f.coarse_scale) && f.coarse_scale >= 0.0)) {
+    return bad("--coarse-scale", str(f.coarse_scale), "expected a number >= 0");
+  }
+
+  std::uint32_t criteria = 0;
+  std::stringstream list(f.criterion);
+  std::string name;
+  while (std::getline(list, name, ',')) {
+    if (name == "cost-drop") {
+      criteria |= ppcr::kCriterionCostDrop;
+    } else if (name == "mse-prev") {
+      criteria |= ppcr::kCriterionMsePrev;
+    } else if (name == "successful-steps") {
+      criteria |= ppcr::kCriterionSuccessfulSteps;
+    } else if (name == "fixed") {
+      criteria |= ppcr::kCriterionFixed;
+    } else {
+      return bad("--criterion", f.criterion,
+                 "unknown criterion '" + name +
+                     "' (expected cost-drop, mse-prev, successful-steps or fixed)");
+    }
+  }
+  if (criteria == 0) return bad("--criterion", "''", "expected at least one criterion");
+  ppcr::TerminationCriteria& c = o->termination;
+  c.criteria = criteria;
+  c.cost_drop_threshold = f.cost_drop_threshold;
+  c.cost_drop_patience = f.patience;
+  c.max_iterations = f.max_iterations;
+  c.fixed_iterations = f.max_iterations;
+  c.mse_ratio_threshold = f.mse_ratio;
+  c.mse_patience = f.mse_patience;
+  c.successful_steps_threshold = f.steps_threshold;
+  o->source_voxel = f.source_voxel;
+  o->target_voxel = f.target_voxel;
+  o->num_threads = f.threads;
+
+  // The core's validation, re-worded with the flag names.
+  const ppcr::Status s = ppcr::validate(*o);
+  if (!s.ok()) {
+    if (!(std::isfinite(f.radius) && f.radius > 0.0)) {
+      return bad("--radius", str(f.radius), "expected a number > 0");
+    }
+    if (f.max_neighbours < 1 || f.max_neighbours > 1024) {
+      return bad("--max-neighbours", std::to_string(f.max_neighbours), "expected 1..1024");
+    }
+    if (!f.gaussian && !(std::isfinite(f.dof) && f.dof > 0.0)) {
+      return bad("--dof", str(f.dof), "expected a number > 0");
+    }
+    if (f.max_iterations < 1) {
+      return bad("--max-iterations", std::to_string(f.max_iterations), "expected >= 1");
+    }
+    if (f.patience < 0) return bad("--patience", std::to_string(f.patience), "expected >= 0");
+    if (f.mse_patience < 0) {
+      return bad("--mse-patience", std::to_string(f.mse_patience), "expected >= 0");
+    }
+    if (!(std::isfinite(f.mse_ratio) && f.mse_ratio > 0.0)) {
+      return bad("--mse-ratio", str(f.mse_ratio), "expected a number > 0");
+    }
+    if (!std::isfinite(f.cost_drop_threshold)) {
+      return bad("--cost-drop-threshold", str(f.cost_drop_threshold), "expected a number");
+    }
+    if (!(std::isfinite(f.source_voxel) && f.source_voxel >= 0.0)) {
+      return bad("--source-voxel", str(f.source_voxel), "expected a number >= 0");
+    }
+    if (!(std::isfinite(f.target_voxel) && f.target_voxel >= 0.0)) {
+      return bad("--target-voxel", str(f.target_voxel), "expected a number >= 0");
+    }
+    if (f.threads < 1 || f.threads > 1024) {
+      return bad("--threads", std::to_string(f.threads), "expected 1..1024");
+    }
+    return s;
+  }
+  return ppcr::Status::Ok();
+}
+
+}  // namespace ppcr_tools

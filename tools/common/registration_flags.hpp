@@ -1,0 +1,41 @@
+// registration_flags.hpp - the registration options of ppcr_cli and ppcr_bench (a contract:
+// scripts depend on these names), bound to a CLI11 app and turned into RegistrationOptions.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "ppcr/registration.hpp"
+#include "ppcr/status.hpp"
+
+namespace ppcr_tools {
+
+/// Raw flag values as typed by the user (validated by to_options()).
+struct RegistrationFlags {
+  double radius = ppcr::RegistrationOptions().radius;
+  int max_neighbours = ppcr::RegistrationOptions().max_neighbours;
+  double dof = ppcr::WeightOptions().dof;
+  bool gaussian = false;
+  std::string scale = "em";             // em | raw | <s>
+  double coarse_scale = 0.0;            // EM's coarse scale (0 = radius / 2)
+  std::string criterion = "cost-drop";  // comma-separated list
+  double cost_drop_threshold = ppcr::TerminationCriteria().cost_drop_threshold;
+  int patience = ppcr::TerminationCriteria().cost_drop_patience;
+  int max_iterations = ppcr::TerminationCriteria().max_iterations;
+  double mse_ratio = ppcr::TerminationCriteria().mse_ratio_threshold;
+  int mse_patience = ppcr::TerminationCriteria().mse_patience;
+  int steps_threshold = ppcr::TerminationCriteria().successful_steps_threshold;
+  double source_voxel = 0.0;
+  double target_voxel = 0.0;
+  int threads = 1;
+};
+
+/// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --criterion,
+/// --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
+/// --steps-threshold, --source-voxel, --target-voxel, --threads.
+void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
+
+/// Validates the flags and fills options. The message names the flag and the value seen.
+ppcr::Status to_options(const RegistrationFlags& flags, ppcr::RegistrationOptions* options);
+
+}  // namespace ppcr_tools

@@ -1,0 +1,94 @@
+// result_output.cpp - JSON, trace CSV and matrix text of a registration result.
+#include "common/result_output.hpp"
+
+#include <cstdio>
+#include <fstream>
+
+#include "ppcr/lm.hpp"
+
+namespace ppcr_tools {
+
+nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int r = 0; r < 4; ++r) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (int c = 0; c < 4; ++c) row.push_back(M(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double time_ms,
+                           const GroundTruthErrors* gt) {
+  nlohmann::ordered_json j;
+  j["transform"] = matrix_json(r.T_target_source.matrix());
+  j["status"] = ppcr::to_string(r.status.code());
+  if (!r.status.ok()) j["message"] = r.status.message();
+  j["converged"] = r.converged();
+  j["stop_reason"] = ppcr::to_string(r.stop_reason);
+  j["iterations"] = r.iterations;
+  j["lm_iterations"] = r.lm_iterations;
+  j["lm_successful_steps"] = r.lm_successful_steps;
+  j["initial_cost"] = r.initial_cost;
+  j["final_cost"] = r.final_cost;
+  j["scale"] = r.scale;
+  j["time_ms"] = time_ms;
+  j["correspondences"] = r.correspondences;
+  j["matched_source_points"] = r.matched_source_points;
+  j["source_points"] = r.source_points;
+  j["target_points"] = r.target_points;
+  j["source_non_finite"] = r.source_non_finite;
+  j["target_non_finite"] = r.target_non_finite;
+  j["degenerate_directions"] = r.degenerate_directions;
+  if (gt != nullptr) {
+    j["rotation_error_deg"] = gt->rotation_error_deg;
+    j["translation_error"] = gt->translation_error;
+    j["benchmark_error"] = gt->benchmark_error;
+  }
+  return j;
+}
+
+ppcr::Status write_trace_csv(const std::string& path,
+                             const std::vector<ppcr::IterationRecord>& history) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) {
+    return ppcr::Status(ppcr::StatusCode::kIoError, path + ": cannot open for writing");
+  }
+  std::fprintf(f,
+               "iteration,successful_steps,unsuccessful_steps,initial_cost,final_cost,cost_drop,"
+               "mse_prev,mse_ground_truth,benchmark_error,scale,correspondences,"
+               "matched_source_points,tx,ty,tz,qx,qy,qz,qw,time_ms\n");
+  for (const ppcr::IterationRecord& h : history) {
+    const Eigen::Quaterniond q(h.T_target_source.linear());
+    const Eigen::Vector3d t = h.T_target_source.translation();
+    char gt[96] = ",";
+    if (h.mse_ground_truth >= 0.0) {
+      std::snprintf(gt, sizeof(gt), "%.17g,%.17g", h.mse_ground_truth, h.benchmark_error);
+    }
+    std::fprintf(f,
+                 "%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%zu,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                 "%.17g,%.17g,%.6f\n",
+                 h.iteration, h.successful_steps, h.unsuccessful_steps, h.initial_cost,
+                 h.final_cost, h.cost_drop, h.mse_prev, gt, h.scale, h.correspondences,
+                 h.matched_source_points, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
+                 h.time_ms);
+  }
+  const bool ok = std::ferror(f) == 0;
+  if (std::fclose(f) != 0 || !ok) {
+    return ppcr::Status(ppcr::StatusCode::kIoError, path + ": write failed");
+  }
+  return ppcr::Status::Ok();
+}
+
+std::string matrix_text(const Eigen::Matrix4d& M) {
+  std::string out;
+  char line[160];
+  for (int r = 0; r < 4; ++r) {
+    std::snprintf(line, sizeof(line), "%.17g %.17g %.17g %.17g\n", M(r, 0), M(r, 1), M(r, 2),
+                  M(r, 3));
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace ppcr_tools

@@ -1,0 +1,39 @@
+// result_output.hpp - what the tools print and write: the JSON result, the per-iteration trace
+// (CSV, the columns of the termination issue), the 4x4 transform as text.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "ppcr/registration.hpp"
+#include "ppcr/status.hpp"
+
+namespace ppcr_tools {
+
+/// Errors w.r.t. a ground truth (computed by the tool on the full-resolution source).
+struct GroundTruthErrors {
+  double rotation_error_deg = 0.0;
+  double translation_error = 0.0;
+  double benchmark_error = 0.0;
+};
+
+/// Row-major nested arrays, 4x4.
+nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M);
+
+/// The result object of ppcr_cli --json (keys documented in README).
+nlohmann::ordered_json result_json(const ppcr::RegistrationResult& result, double time_ms,
+                           const GroundTruthErrors* gt);
+
+/// One CSV row per outer iteration: iteration, successful_steps, unsuccessful_steps,
+/// initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth, benchmark_error, scale,
+/// correspondences, matched_source_points, tx, ty, tz, qx, qy, qz, qw, time_ms. Columns without a
+/// ground truth are empty.
+ppcr::Status write_trace_csv(const std::string& path,
+                             const std::vector<ppcr::IterationRecord>& history);
+
+/// Four lines of four numbers (17 significant digits).
+std::string matrix_text(const Eigen::Matrix4d& M);
+
+}  // namespace ppcr_tools

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh Debian 12 machine: installs what is missing, configures,
+# builds and runs every test. `.ci/run` calls exactly this.
+#   tools/test.sh            all stages
+#   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz)
+# Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+"$root/tools/install_deps.sh"
+jobs=${PPCR_JOBS:-2}
+stages=${PPCR_TEST_STAGES:-release sanitize fuzz}
+
+for stage in $stages; do
+  case $stage in
+    release)
+      echo "== release: build and run all tests"
+      cmake -S . -B build/test-release -DCMAKE_BUILD_TYPE=Release -DPPCR_BUILD_TESTS=ON \
+        -DPPCR_BUILD_TOOLS=ON -DPPCR_BUILD_BENCHMARKS=ON
+      cmake --build build/test-release -j "$jobs"
+      ctest --test-dir build/test-release --output-on-failure -j "$jobs"
+      ;;
+    sanitize)
+      echo "== sanitize: all tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+      cmake -S . -B build/test-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPPCR_SANITIZE=ON \
+        -DPPCR_BUILD_TESTS=ON -DPPCR_BUILD_TOOLS=ON
+      cmake --build build/test-asan -j "$jobs"
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+        ctest --test-dir build/test-asan --output-on-failure -j "$jobs"
+      ;;
+    fuzz)
+      if [[ -f fuzz/run_bounded.sh ]]; then
+        echo "== fuzz: bounded libFuzzer runs"
+        fuzz/run_bounded.sh "${PPCR_FUZZ_SECONDS:-60}"
+      else
+        echo "== fuzz: no fuzz/run_bounded.sh, skipped"
+      fi
+      ;;
+    *)
+      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz)" >&2
+      exit 2
+      ;;
+  esac
+done
+echo "== all test stages passed: $stages"
