@@ -17,6 +17,7 @@ struct LMProblem {
   const PointCloud* target = nullptr;  // target points (same frame as the tree)
   const AssociationTable* assoc = nullptr;
   WeightParams weights;
+  const PlaneModel* plane = nullptr;  // plane error model, or null for point-to-point
   int num_threads = 1;
   double step_reference = 1.0;  // length the step tolerance is relative to (the radius)
   double source_extent = 1.0;   // r_max: largest |x| of the source (bounds a step's motion)

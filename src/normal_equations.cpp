@@ -9,46 +9,97 @@
 
 namespace ppcr {
 namespace detail {
+namespace {
+
+// Omega = a I + n n^T of a target point (error_model.hpp): a = epsilon with a normal, else 1.
+inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
+  return n.squaredNorm() > 0.0 ? epsilon : 1.0;
+}
+
+}  // namespace
 
 void NormalEquations::resize(std::size_t source_points) {
   blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
 }
 
-void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,
-                               const AssociationTable& assoc, const WeightParams& weights,
-                               const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
-                               double* r_sq, int num_threads, Evaluation* out) {
+template <bool kPlane, class Kernel>
+void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
+                           const AssociationTable& assoc, const Eigen::Isometry3d& T,
+                           const double* w_prev, double* w_new, double* r_sq, int num_threads,
+                           const PlaneModel* plane) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
-  with_weight_kernel(weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {
-    parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-      BlockSums s;
-      s.S0 = s.cost = s.cost_prev = 0.0;
-      s.S1.setZero();
-      s.ebar.setZero();
-      s.ebar_cross_p.setZero();
-      s.S2.setZero();
-      const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
-      const std::size_t end = std::min(n, begin + kBlockSize);
-      for (std::size_t j = begin; j < end; ++j) {
-        const std::size_t count = assoc.count[j];
-        if (count == 0) continue;
-        const std::size_t slot = j * k;
-        const std::uint32_t* idx = &assoc.index[slot];
-        double* r = &r_sq[slot];
-        double* w = &w_new[slot];
-        const Eigen::Vector3d p = R * source[j] + t;
-        // Residuals of the point's pairs (and the cost under the previous weights).
-        for (std::size_t m = 0; m < count; ++m) r[m] = (target[idx[m]] - p).squaredNorm();
-        if (w_prev != nullptr) {
-          const double* wp = &w_prev[slot];
-          for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
+  const std::vector<Eigen::Vector3d>* normals = kPlane ? plane->normals : nullptr;
+  const double epsilon = kPlane ? plane->epsilon : 1.0;
+
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    BlockSums s;
+    s.S0 = s.cost = s.cost_prev = 0.0;
+    s.S1.setZero();
+    s.ebar.setZero();
+    s.ebar_cross_p.setZero();
+    s.S2.setZero();
+    s.H.setZero();
+    const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
+    const std::size_t end = std::min(n, begin + kBlockSize);
+    for (std::size_t j = begin; j < end; ++j) {
+      const std::size_t count = assoc.count[j];
+      if (count == 0) continue;
+      const std::size_t slot = j * k;
+      const std::uint32_t* idx = &assoc.index[slot];
+      double* r = &r_sq[slot];
+      double* w = &w_new[slot];
+      const Eigen::Vector3d p = R * source[j] + t;
+      // Squared errors of the point's pairs (Mahalanobis for the plane model), and the cost
+      // under the previous weights.
+      for (std::size_t m = 0; m < count; ++m) {
+        const Eigen::Vector3d e = target[idx[m]] - p;
+        if constexpr (kPlane) {
+          const Eigen::Vector3d& nk = (*normals)[idx[m]];
+          const double ne = nk.dot(e);
+          r[m] = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
+        } else {
+          r[m] = e.squaredNorm();
         }
-        // E-step at this pose (eq. 2-4): w = c * u.
-        const PointWeights pw = e_step(r, count, w);
+      }
+      if (w_prev != nullptr) {
+        const double* wp = &w_prev[slot];
+        for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
+      }
+      // E-step at this pose (eq. 2-4): w = c * u.
+      const PointWeights pw = e_step(r, count, w);
+      if constexpr (kPlane) {
+        // Obar = c (A I + N), ebar = c sum_k u_k Omega_k e_k.
+        double A = 0.0, U = 0.0, ur = 0.0;
+        Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+        Eigen::Vector3d ebar = Eigen::Vector3d::Zero();
+        for (std::size_t m = 0; m < count; ++m) {
+          const double u = w[m];
+          const Eigen::Vector3d& nk = (*normals)[idx[m]];
+          const Eigen::Vector3d e = target[idx[m]] - p;
+          const double a = omega_isotropic(nk, epsilon);
+          A += u * a;
+          U += u;
+          N.noalias() += (u * nk) * nk.transpose();
+          ebar += u * (a * e + nk * nk.dot(e));
+          ur += u * r[m];
+          w[m] *= pw.c;
+        }
+        const Eigen::Matrix3d Obar = pw.c * (N + A * Eigen::Matrix3d::Identity());
+        ebar *= pw.c;
+        const Eigen::Matrix3d P = se3::skew(p);
+        const Eigen::Matrix3d PO = P * Obar;  // [p]_x Obar
+        s.H.topLeftCorner<3, 3>().noalias() -= PO * P;
+        s.H.topRightCorner<3, 3>() += PO;
+        s.H.bottomRightCorner<3, 3>() += Obar;
+        s.ebar += ebar;
+        s.ebar_cross_p += ebar.cross(p);
+        s.cost += pw.c * ur;
+        s.S0 += pw.c * U;
+      } else {
         // W_j, sum_k w y_k and the cost, accumulated with u and scaled by c once.
         double U = 0.0, ur = 0.0;
         Eigen::Vector3d uy = Eigen::Vector3d::Zero();
@@ -67,20 +118,38 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
         s.ebar += ebar;
         s.ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
       }
-      blocks_[static_cast<std::size_t>(b)] = s;
-    });
+    }
+    blocks_[static_cast<std::size_t>(b)] = s;
+  });
+}
+
+void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,
+                               const AssociationTable& assoc, const WeightParams& weights,
+                               const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
+                               double* r_sq, int num_threads, Evaluation* out,
+                               const PlaneModel* plane) {
+  const bool use_plane = plane != nullptr && plane->normals != nullptr;
+  with_weight_kernel(weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {
+    if (use_plane) {
+      pass<true>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+    } else {
+      pass<false>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+    }
   });
 
   // Ordered reduction over blocks: independent of the thread count.
+  const std::size_t n_blocks = (source.size() + kBlockSize - 1) / kBlockSize;
   double S0 = 0.0, cost = 0.0, cost_prev = 0.0;
   Eigen::Vector3d S1 = Eigen::Vector3d::Zero(), ebar = Eigen::Vector3d::Zero(),
                   ebar_cross_p = Eigen::Vector3d::Zero();
   Eigen::Matrix3d S2 = Eigen::Matrix3d::Zero();
+  Matrix6d H = Matrix6d::Zero();
   for (std::size_t b = 0; b < n_blocks; ++b) {
     const BlockSums& s = blocks_[b];
     S0 += s.S0;
     S1 += s.S1;
     S2 += s.S2;
+    H += s.H;
     ebar += s.ebar;
     ebar_cross_p += s.ebar_cross_p;
     cost += s.cost;
@@ -88,13 +157,42 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   }
   out->cost = 0.5 * cost;
   out->cost_prev_weights = 0.5 * cost_prev;
+  if (use_plane) {
+    // Only the top-right block was accumulated off the diagonal: complete by symmetry.
+    H.bottomLeftCorner<3, 3>() = H.topRightCorner<3, 3>().transpose();
+    out->H = H;
+  } else {
+    out->H.topLeftCorner<3, 3>() = S2.trace() * Eigen::Matrix3d::Identity() - S2;
+    out->H.topRightCorner<3, 3>() = se3::skew(S1);
+    out->H.bottomLeftCorner<3, 3>() = -se3::skew(S1);
+    out->H.bottomRightCorner<3, 3>() = S0 * Eigen::Matrix3d::Identity();
+  }
   out->weight_sum = S0;
-  out->H.topLeftCorner<3, 3>() = S2.trace() * Eigen::Matrix3d::Identity() - S2;
-  out->H.topRightCorner<3, 3>() = se3::skew(S1);
-  out->H.bottomLeftCorner<3, 3>() = -se3::skew(S1);
-  out->H.bottomRightCorner<3, 3>() = S0 * Eigen::Matrix3d::Identity();
   out->g.head<3>() = ebar_cross_p;
   out->g.tail<3>() = -ebar;
+}
+
+Matrix6d NormalEquations::normal_information(const PointCloud& source, const PointCloud& target,
+                                             const AssociationTable& assoc,
+                                             const Eigen::Isometry3d& T, const double* w,
+                                             const std::vector<Eigen::Vector3d>& normals) {
+  (void)target;
+  Matrix6d H = Matrix6d::Zero();
+  const std::size_t k = static_cast<std::size_t>(assoc.k);
+  for (std::size_t j = 0; j < source.size(); ++j) {
+    const std::size_t slot = j * k;
+    Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
+    for (std::size_t m = 0; m < assoc.count[j]; ++m) {
+      const Eigen::Vector3d& nk = normals[assoc.index[slot + m]];
+      Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
+    }
+    const Eigen::Matrix3d P = se3::skew(T * source[j]);
+    H.topLeftCorner<3, 3>().noalias() -= P * Obar * P;
+    H.topRightCorner<3, 3>().noalias() += P * Obar;
+    H.bottomRightCorner<3, 3>() += Obar;
+  }
+  H.bottomLeftCorner<3, 3>() = H.topRightCorner<3, 3>().transpose();
+  return H;
 }
 
 }  // namespace detail

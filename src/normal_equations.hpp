@@ -11,6 +11,12 @@
 //   H = [ tr(S2) I - S2 , [S1]_x ; -[S1]_x , S0 I ],   g = [ sum ebar_j x p_j ; -sum ebar_j ].
 // So each source point adds 16 numbers, not a 6x6 outer product per pair.
 //
+// Plane model (error_model.hpp): r_kj = e^T Omega_k e with Omega_k = a_k I + n_k n_k^T
+// (a_k = epsilon with a normal, 1 without). J_j is still shared by a point's neighbours, so with
+// Obar_j = sum_k w_kj Omega_k and ebar_j = sum_k w_kj Omega_k e_kj:
+//   H = sum_j J_j^T Obar_j J_j = sum_j [ -[p]_x Obar [p]_x , [p]_x Obar ; -Obar [p]_x , Obar ],
+//   g = sum_j [ ebar_j x p_j ; -ebar_j ]:  one 6x6 term per source point.
+//
 // Reduction: source points are cut into fixed blocks of kBlockSize (independent of the thread
 // count); each block is summed serially into its own slot, then the slots are summed in order.
 // The result is bit-identical whatever the number of threads.
@@ -35,6 +41,12 @@ struct WeightParams {
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
+/// The plane error model's per-target-point data (null = point model).
+struct PlaneModel {
+  const std::vector<Eigen::Vector3d>* normals = nullptr;  // unit, or zero for "no normal"
+  double epsilon = 0.05;                                  // in-plane weight
+};
+
 struct Evaluation {
   double cost = 0.0;               // 1/2 sum w_new |e|^2 (weights computed at this pose)
   double cost_prev_weights = 0.0;  // 1/2 sum w_prev |e|^2 (when w_prev was given, else 0)
@@ -54,16 +66,32 @@ class NormalEquations {
   /// w_new[j*k+m] = E-step weights at T, and out = costs, H and g under w_new. If w_prev is not
   /// null, also the cost at T under w_prev (the LM step test compares costs under the same
   /// weights). Arrays have the association table's stride k.
+  /// With plane != null the plane error model is used (r_sq then holds e^T Omega e).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,
-                double* w_new, double* r_sq, int num_threads, Evaluation* out);
+                double* w_new, double* r_sq, int num_threads, Evaluation* out,
+                const PlaneModel* plane = nullptr);
+
+  /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights: the information of the
+  /// surface-normal part of the plane model alone (no epsilon), whose null directions are the
+  /// motions the target's geometry leaves unconstrained. Serial; once per registration.
+  static Matrix6d normal_information(const PointCloud& source, const PointCloud& target,
+                                     const AssociationTable& assoc, const Eigen::Isometry3d& T,
+                                     const double* w, const std::vector<Eigen::Vector3d>& normals);
 
  private:
+  // Per-block partial sums. Point model: S0, S1, S2 (H from 10 numbers, header comment);
+  // plane model: the 6x6 H directly (upper triangle used).
   struct BlockSums {
     double S0, cost, cost_prev;
     Eigen::Vector3d S1, ebar, ebar_cross_p;
     Eigen::Matrix3d S2;
+    Matrix6d H;
   };
+  template <bool kPlane, class Kernel>
+  void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
+            const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
+            double* w_new, double* r_sq, int num_threads, const PlaneModel* plane);
   std::vector<BlockSums> blocks_;
 };
 

@@ -20,6 +20,7 @@
 #include "ppcr/metrics.hpp"
 #include "ppcr/voxel.hpp"
 #include "scale_schedule.hpp"
+#include "target_normals.hpp"
 
 namespace ppcr {
 namespace {
@@ -102,14 +103,26 @@ Status validate(const RegistrationOptions& o) {
     return invalid("scale must be >= 0, got " + num(w.scale));
   }
   if (!(std::isfinite(w.em_coarse_drop)) || w.em_coarse_patience < 0 ||
-      !(std::isfinite(w.em_coarse_motion) && w.em_coarse_motion >= 0.0)) {
-    return invalid("em_coarse_drop must be finite, em_coarse_patience and em_coarse_motion >= 0");
+      !(std::isfinite(w.em_coarse_motion) && w.em_coarse_motion >= 0.0) ||
+      !(std::isfinite(w.em_coarse_max_motion) && w.em_coarse_max_motion >= 0.0)) {
+    return invalid(
+        "em_coarse_drop must be finite; em_coarse_patience, em_coarse_motion and "
+        "em_coarse_max_motion >= 0");
   }
   if (!(w.em_min_shrink > 0.0 && w.em_min_shrink <= 1.0)) {
     return invalid("em_min_shrink must be in (0, 1], got " + num(w.em_min_shrink));
   }
   if (!(std::isfinite(w.em_min_scale) && w.em_min_scale >= 0.0)) {
     return invalid("em_min_scale must be >= 0, got " + num(w.em_min_scale));
+  }
+  if (o.error_model == ErrorModel::kPlane) {
+    if (o.plane.normal_neighbours < 5 || o.plane.normal_neighbours > 64) {
+      return invalid("plane.normal_neighbours must be in [5, 64], got " +
+                     std::to_string(o.plane.normal_neighbours));
+    }
+    if (!(o.plane.epsilon > 0.0 && o.plane.epsilon <= 1.0)) {
+      return invalid("plane.epsilon must be in (0, 1], got " + num(o.plane.epsilon));
+    }
   }
   for (double v : {o.source_voxel, o.target_voxel}) {
     if (!(std::isfinite(v) && v >= 0.0)) return invalid("voxel leaf must be >= 0, got " + num(v));
@@ -139,6 +152,9 @@ Status validate(const RegistrationOptions& o) {
   if (c.fixed_iterations < 1) {
     return invalid("fixed_iterations must be >= 1, got " + std::to_string(c.fixed_iterations));
   }
+  if (!(std::isfinite(c.cost_drop_max_motion) && c.cost_drop_max_motion >= 0.0)) {
+    return invalid("cost_drop_max_motion must be >= 0, got " + num(c.cost_drop_max_motion));
+  }
   if (!std::isfinite(c.cost_drop_threshold)) {
     return invalid("cost_drop_threshold must be finite, got " + num(c.cost_drop_threshold));
   }
@@ -160,6 +176,8 @@ struct Registration::Impl {
   std::size_t target_non_finite = 0;
   bool has_target = false;
   detail::KdTree tree;
+  std::vector<Eigen::Vector3d> target_normals;  // plane model only
+  detail::PlaneModel plane;
   // Per-alignment buffers, kept between calls so same-size registrations reuse them.
   PointCloud source_filtered, source_centered;
   detail::AssociationTable assoc;
@@ -191,6 +209,12 @@ Status Registration::set_target(const PointCloud& target) {
   }
   s = m.tree.build(m.target_centered);
   if (!s.ok()) return s;
+  if (m.options.error_model == ErrorModel::kPlane) {
+    detail::compute_normals(m.target_centered, m.tree, m.options.plane.normal_neighbours,
+                            m.options.num_threads, &m.target_normals);
+    m.plane.normals = &m.target_normals;
+    m.plane.epsilon = m.options.plane.epsilon;
+  }
   m.has_target = true;
   return Status::Ok();
 }
@@ -280,6 +304,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       break;
     }
     const double scale_sq = scale.scale_sq();
+    // Plane model: point-to-point while the scale is coarse (wider basin), then plane-aware.
+    problem.plane = o.error_model == ErrorModel::kPlane && !scale.coarse() ? &m.plane : nullptr;
     problem.weights.inv_scale_sq = 1.0 / scale_sq;
 
     const LMSummary lm = m.lm.solve(o.lm, problem, &T);
@@ -295,6 +321,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     report.lm = lm;
     report.T_target_source = result.T_target_source;
     report.scale_settling = scale.settling();
+    report.motion_reference = o.radius;
     reason = lm.termination == LMTermination::kNumericalFailure ? StopReason::kNumericalFailure
                                                                 : monitor.update(report);
     if (reason == StopReason::kNumericalFailure) {
@@ -331,19 +358,23 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   result.stop_reason = reason;
   result.scale = std::sqrt(scale.scale_sq());
 
-  // Information at the final pose and the directions it leaves free. Rotations are scaled by the
-  // source's RMS radius so that both blocks are in (cloud units)^2 before comparing eigenvalues.
+  // Information at the final pose. With the plane model, the directions the surfaces leave
+  // free: eigenvalues of the surface-normal information with rotations scaled by the source's
+  // RMS radius (so both blocks are in cloud units^2) below 1e-6 of the largest.
   result.information = m.lm.last().H;
-  const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
-  Eigen::Matrix<double, 6, 1> s;
-  s << 1.0 / rms, 1.0 / rms, 1.0 / rms, 1.0, 1.0, 1.0;
-  const Eigen::Matrix<double, 6, 6> normalised =
-      s.asDiagonal() * result.information * s.asDiagonal();
-  if (normalised.allFinite() && normalised.diagonal().maxCoeff() > 0.0) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(normalised,
-                                                                   Eigen::EigenvaluesOnly);
-    const Eigen::Matrix<double, 6, 1> ev = eig.eigenvalues();
-    result.degenerate_directions = static_cast<int>((ev.array() < 1e-6 * ev.maxCoeff()).count());
+  if (o.error_model == ErrorModel::kPlane && result.iterations > 0) {
+    const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
+        m.source_centered, m.target_centered, m.assoc, T, m.lm.weights().data(), m.target_normals);
+    const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
+    detail::Vector6d scaling;
+    scaling << rms, rms, rms, 1.0, 1.0, 1.0;
+    const detail::Matrix6d normalised =
+        scaling.cwiseInverse().asDiagonal() * H_normal * scaling.cwiseInverse().asDiagonal();
+    if (normalised.allFinite() && normalised.diagonal().maxCoeff() > 0.0) {
+      Eigen::SelfAdjointEigenSolver<detail::Matrix6d> eig(normalised, Eigen::EigenvaluesOnly);
+      const detail::Vector6d ev = eig.eigenvalues();
+      result.degenerate_directions = static_cast<int>((ev.array() < 1e-6 * ev.maxCoeff()).count());
+    }
   }
   return result;
 }

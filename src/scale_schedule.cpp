@@ -7,7 +7,8 @@
 namespace ppcr {
 namespace detail {
 
-ScaleSchedule::ScaleSchedule(const WeightOptions& options, double radius) : options_(options) {
+ScaleSchedule::ScaleSchedule(const WeightOptions& options, double radius)
+    : options_(options), radius_(radius) {
   switch (options.scale_mode) {
     case ScaleMode::kRaw:
       scale_sq_ = 1.0;
@@ -28,7 +29,9 @@ void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_
   if (options_.scale_mode != ScaleMode::kEM) return;
   if (coarse_) {
     // Phase 1: hold s until the pose has settled at this scale. (NaN drops count as settled.)
-    low_drop_count_ = !(cost_drop >= options_.em_coarse_drop) ? low_drop_count_ + 1 : 0;
+    const bool slow = options_.em_coarse_max_motion <= 0.0 ||
+                      rms_motion < options_.em_coarse_max_motion * radius_;
+    low_drop_count_ = slow && !(cost_drop >= options_.em_coarse_drop) ? low_drop_count_ + 1 : 0;
     const bool still = rms_motion < options_.em_coarse_motion * std::sqrt(scale_sq_);
     if (low_drop_count_ <= options_.em_coarse_patience && !still) return;
     coarse_ = false;  // settled: the EM updates start with this iteration's estimate

@@ -19,12 +19,16 @@ class ScaleSchedule {
   /// adaptive termination criteria should not count this iteration.
   bool settling() const { return settling_; }
 
+  /// True during the coarse phase of the EM schedule.
+  bool coarse() const { return coarse_; }
+
   /// After an outer iteration: its relative cost drop, the RMS motion of the source it caused
   /// (sqrt of the MSE w.r.t. the previous pose), and the EM estimate of s^2 at its final pose.
   void update(double cost_drop, double rms_motion, double em_scale_sq);
 
  private:
   WeightOptions options_;
+  double radius_ = 1.0;
   double scale_sq_ = 1.0;
   bool coarse_ = false;
   bool settling_ = false;

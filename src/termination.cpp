@@ -76,8 +76,12 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
   // Update every counter, whichever criteria are enabled; hold them at zero while the E-step
   // scale is settling.
   const bool counting = !report.scale_settling;
-  low_cost_drop_count_ =
-      counting && last_cost_drop_ < criteria_.cost_drop_threshold ? low_cost_drop_count_ + 1 : 0;
+  const bool still =
+      criteria_.cost_drop_max_motion <= 0.0 ||
+      std::sqrt(last_mse_prev_) < criteria_.cost_drop_max_motion * report.motion_reference;
+  low_cost_drop_count_ = counting && still && last_cost_drop_ < criteria_.cost_drop_threshold
+                             ? low_cost_drop_count_ + 1
+                             : 0;
   const bool mse_low = last_mse_prev_ == 0.0 ||
                        (t >= 2 && last_mse_prev_ < previous_mse_ / criteria_.mse_ratio_threshold);
   low_mse_count_ = counting && mse_low ? low_mse_count_ + 1 : 0;

@@ -29,11 +29,13 @@ for stage in $stages; do
         ctest --test-dir build/test-asan --output-on-failure -j "$jobs"
       ;;
     fuzz)
-      if [[ -f fuzz/run_bounded.sh ]]; then
-        echo "== fuzz: bounded libFuzzer runs"
-        fuzz/run_bounded.sh "${PPCR_FUZZ_SECONDS:-60}"
-      else
-        echo "== fuzz: no fuzz/run_bounded.sh, skipped"
+      echo "== fuzz: bounded libFuzzer runs (clang, ASan + UBSan), ${PPCR_FUZZ_SECONDS:-60} s per target"
+      rm -rf build/test-fuzz/fuzz/artifacts
+      fuzz/run_fuzzers.sh "${PPCR_FUZZ_SECONDS:-60}" "$root/build/test-fuzz"
+      if [[ -n $(find build/test-fuzz/fuzz/artifacts -type f 2>/dev/null) ]]; then
+        echo "fuzz: crash inputs found:" >&2
+        find build/test-fuzz/fuzz/artifacts -type f >&2
+        exit 1
       fi
       ;;
     *)

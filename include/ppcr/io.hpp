@@ -5,10 +5,9 @@
 // message names the file, the line or byte offset, and what was expected.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <string>
-
-#include <Eigen/Geometry>
 
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
@@ -21,9 +20,9 @@ enum class Format { kAuto, kPly, kPcd, kXyz };
 /// What a reader saw, beyond the points it returned.
 struct ReadReport {
   Format format = Format::kAuto;  // the format actually read
-  std::string encoding;           // "ascii", "binary_little_endian", "binary", "binary_compressed"...
-  std::size_t points_in_file = 0;       // points the file holds (header count, or data rows)
-  std::size_t non_finite_dropped = 0;   // points with a NaN/Inf coordinate, dropped and counted
+  std::string encoding;  // "ascii", "binary_little_endian", "binary", "binary_compressed"...
+  std::size_t points_in_file = 0;      // points the file holds (header count, or data rows)
+  std::size_t non_finite_dropped = 0;  // points with a NaN/Inf coordinate, dropped and counted
 };
 
 /// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts,

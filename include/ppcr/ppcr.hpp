@@ -1,6 +1,7 @@
 // ppcr.hpp - umbrella include of the ppcr core (ppcr_io has its own header, ppcr/io.hpp).
 #pragma once
 
+#include "ppcr/error_model.hpp"
 #include "ppcr/lm.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"

@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "ppcr/error_model.hpp"
 #include "ppcr/lm.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/termination.hpp"
@@ -25,17 +26,19 @@
 namespace ppcr {
 
 struct RegistrationOptions {
-  double radius = 1.0;              // association radius, cloud units (> 0): target points farther
-                                    // than this from a transformed source point are ignored
-  int max_neighbours = 10;          // associations per source point, k (>= 1)
-  WeightOptions weights;            // E-step model, dof and scale
-  LMOptions lm;                     // inner loop
-  TerminationCriteria termination;  // outer loop
-  double source_voxel = 0.0;        // voxel leaf for the source, cloud units (0 = no filtering)
-  double target_voxel = 0.0;        // voxel leaf for the target, cloud units (0 = no filtering)
-  int num_threads = 1;              // threads for association and reductions (>= 1; the result
-                                    // does not depend on it)
-  bool record_history = true;       // keep one IterationRecord per outer iteration in the result
+  double radius = 1.0;      // association radius, cloud units (> 0): target points farther
+                            // than this from a transformed source point are ignored
+  int max_neighbours = 10;  // associations per source point, k (>= 1)
+  WeightOptions weights;    // E-step model, dof and scale
+  ErrorModel error_model = ErrorModel::kPoint;  // point-to-point (paper) or plane-aware
+  PlaneOptions plane;                           // kPlane: normal estimation and in-plane weight
+  LMOptions lm;                                 // inner loop
+  TerminationCriteria termination;              // outer loop
+  double source_voxel = 0.0;   // voxel leaf for the source, cloud units (0 = no filtering)
+  double target_voxel = 0.0;   // voxel leaf for the target, cloud units (0 = no filtering)
+  int num_threads = 1;         // threads for association and reductions (>= 1; the result
+                               // does not depend on it)
+  bool record_history = true;  // keep one IterationRecord per outer iteration in the result
   /// Called on the calling thread after each outer iteration with that iteration's record
   /// (progress display, time budgets). Return false to stop: StopReason::kCancelled.
   /// Must not throw.
@@ -76,11 +79,14 @@ struct RegistrationResult {
   std::size_t correspondences = 0;        // associated pairs, last iteration
   std::size_t source_non_finite = 0;      // non-finite points dropped from the source
   std::size_t target_non_finite = 0;      // non-finite points dropped from the target
-  /// Gauss-Newton information (J^T W J) at the final pose, twist (omega, v) applied on the left
-  /// about the target's centroid. Its small eigenvalues are the directions the data leave free.
+  /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
+  /// left about the target's centroid, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
-  int degenerate_directions = 0;  // eigenvalues of the (scale-normalised) information below
-                                  // 1e-6 of the largest: 0 for well-constrained geometry
+  /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues
+  /// of the surface-normal information, rotations scaled by the source's RMS radius, below 1e-6
+  /// of the largest): 3 for a single plane, 1 for a cylinder, 0 for well-constrained geometry.
+  /// Point model: -1 (not assessed: point-to-point information is never singular).
+  int degenerate_directions = -1;
   std::vector<IterationRecord> history;
 
   /// True when a termination criterion stopped the loop (not the cap, not a failure).

@@ -14,6 +14,10 @@
 //    tested once with the initial drop of 0), and is compared before being incremented, so it
 //    stops after patience + 1 low iterations from the start, but after patience + 2 consecutive
 //    low iterations once an iteration at or above the threshold has reset it.
+//    With cost_drop_max_motion > 0 (our addition), a low iteration must also have moved the
+//    source by less than cost_drop_max_motion * motion_reference (RMS): the cost drop alone can
+//    be tiny while the pose still slides along a valley, which is how the paper's rule stops
+//    early on some lidar problems.
 //  - kMsePrev (eq. 5-6): MSE_t = mean_i |T_t x_i - T_{t-1} x_i|^2 (T_0 the initial guess). A
 //    counter of consecutive iterations with MSE_t < MSE_{t-1} / mse_ratio_threshold (t >= 2) or
 //    MSE_t == 0; fires when it exceeds mse_patience. Earliest: t = patience + 2 (patience + 1
@@ -50,6 +54,10 @@ struct TerminationCriteria {
   double cost_drop_threshold = 0.01;   // kCriterionCostDrop: relative drop (fraction, paper 1 %)
   int cost_drop_patience = 10;         // kCriterionCostDrop: consecutive low iterations tolerated
                                        // (paper 10; 20 in its Table 5)
+  double cost_drop_max_motion = 0.0;   // kCriterionCostDrop: if > 0, an iteration counts as low
+                                       // only when it also moved the source by less than this
+                                       // fraction of the radius (RMS, sqrt of MSE_t); 0 = the
+                                       // paper's rule (cost drop alone)
   double mse_ratio_threshold = 2.0;    // kCriterionMsePrev: low when MSE_t < MSE_{t-1} / this
   int mse_patience = 3;                // kCriterionMsePrev: consecutive low iterations tolerated
   int successful_steps_threshold = 1;  // kCriterionSuccessfulSteps: low when steps <= this
@@ -81,8 +89,9 @@ struct IterationReport {
   int iteration = 0;                                                  // 1-based outer iteration
   LMSummary lm;                                                       // the inner problem's summary
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
-  bool scale_settling = false;  // the E-step scale is still coarse or shrinking (weights.hpp):
-                                // adaptive criteria neither count nor fire this iteration
+  double motion_reference = 1.0;  // length cost_drop_max_motion is relative to (the radius)
+  bool scale_settling = false;    // the E-step scale is still coarse or shrinking (weights.hpp):
+                                  // adaptive criteria neither count nor fire this iteration
 };
 
 }  // namespace ppcr

@@ -55,6 +55,22 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
   app.add_option("--steps-threshold", f->steps_threshold,
                  "successful-steps: low when LM accepted at most this many steps (default " +
                      std::to_string(f->steps_threshold) + ")");
+  app.add_option("--error-model", f->error_model,
+                 "point (point-to-point, the paper's; default) or plane (Mahalanobis error along "
+                 "the target's local surface normal)");
+  app.add_option("--plane-epsilon", f->plane_epsilon,
+                 "plane model: in-plane weight of Omega = n n^T + epsilon I (default " +
+                     str(f->plane_epsilon) + ")");
+  app.add_option("--normal-neighbours", f->normal_neighbours,
+                 "plane model: target points per normal fit (default " +
+                     std::to_string(f->normal_neighbours) + ")");
+  app.add_option("--motion-guard", f->motion_guard,
+                 "an iteration counts as settled (cost-drop criterion and EM coarse phase) only "
+                 "if it moved the source by less than this fraction of the radius, RMS (default "
+                 "0 = off, the paper's rule)");
+  app.add_option("--coarse-patience", f->coarse_patience,
+                 "EM scale: settled iterations ending the coarse phase (default " +
+                     std::to_string(f->coarse_patience) + ")");
   app.add_option("--source-voxel", f->source_voxel,
                  "voxel-grid leaf for the source, cloud units (default 0 = off)");
   app.add_option("--target-voxel", f->target_voxel,
@@ -115,6 +131,24 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   c.mse_ratio_threshold = f.mse_ratio;
   c.mse_patience = f.mse_patience;
   c.successful_steps_threshold = f.steps_threshold;
+  if (f.error_model == "point") {
+    o->error_model = ppcr::ErrorModel::kPoint;
+  } else if (f.error_model == "plane") {
+    o->error_model = ppcr::ErrorModel::kPlane;
+  } else {
+    return bad("--error-model", f.error_model, "expected point or plane");
+  }
+  o->plane.epsilon = f.plane_epsilon;
+  o->plane.normal_neighbours = f.normal_neighbours;
+  if (!(std::isfinite(f.motion_guard) && f.motion_guard >= 0.0)) {
+    return bad("--motion-guard", str(f.motion_guard), "expected a number >= 0");
+  }
+  c.cost_drop_max_motion = f.motion_guard;
+  o->weights.em_coarse_max_motion = f.motion_guard;
+  if (f.coarse_patience < 0) {
+    return bad("--coarse-patience", std::to_string(f.coarse_patience), "expected >= 0");
+  }
+  o->weights.em_coarse_patience = f.coarse_patience;
   o->source_voxel = f.source_voxel;
   o->target_voxel = f.target_voxel;
   o->num_threads = f.threads;
@@ -149,6 +183,12 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     }
     if (!(std::isfinite(f.target_voxel) && f.target_voxel >= 0.0)) {
       return bad("--target-voxel", str(f.target_voxel), "expected a number >= 0");
+    }
+    if (f.normal_neighbours < 5 || f.normal_neighbours > 64) {
+      return bad("--normal-neighbours", std::to_string(f.normal_neighbours), "expected 5..64");
+    }
+    if (!(f.plane_epsilon > 0.0 && f.plane_epsilon <= 1.0)) {
+      return bad("--plane-epsilon", str(f.plane_epsilon), "expected a number in (0, 1]");
     }
     if (f.threads < 1 || f.threads > 1024) {
       return bad("--threads", std::to_string(f.threads), "expected 1..1024");

@@ -25,6 +25,11 @@ struct RegistrationFlags {
   double mse_ratio = ppcr::TerminationCriteria().mse_ratio_threshold;
   int mse_patience = ppcr::TerminationCriteria().mse_patience;
   int steps_threshold = ppcr::TerminationCriteria().successful_steps_threshold;
+  std::string error_model = "point";  // point | plane
+  double plane_epsilon = ppcr::PlaneOptions().epsilon;
+  int normal_neighbours = ppcr::PlaneOptions().normal_neighbours;
+  double motion_guard = 0.0;  // cost-drop / coarse-phase motion guard (fraction of radius)
+  int coarse_patience = ppcr::WeightOptions().em_coarse_patience;
   double source_voxel = 0.0;
   double target_voxel = 0.0;
   int threads = 1;
@@ -32,7 +37,8 @@ struct RegistrationFlags {
 
 /// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --criterion,
 /// --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
-/// --steps-threshold, --source-voxel, --target-voxel, --threads.
+/// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --motion-guard,
+/// --coarse-patience, --source-voxel, --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// Validates the flags and fills options. The message names the flag and the value seen.

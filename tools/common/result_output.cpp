@@ -19,7 +19,7 @@ nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M) {
 }
 
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double time_ms,
-                           const GroundTruthErrors* gt) {
+                                   const GroundTruthErrors* gt) {
   nlohmann::ordered_json j;
   j["transform"] = matrix_json(r.T_target_source.matrix());
   j["status"] = ppcr::to_string(r.status.code());

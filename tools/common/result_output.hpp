@@ -24,7 +24,7 @@ nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M);
 
 /// The result object of ppcr_cli --json (keys documented in README).
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& result, double time_ms,
-                           const GroundTruthErrors* gt);
+                                   const GroundTruthErrors* gt);
 
 /// One CSV row per outer iteration: iteration, successful_steps, unsuccessful_steps,
 /// initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth, benchmark_error, scale,

@@ -1,0 +1,150 @@
+// make_seed_corpus.cpp - writes a seed corpus of small VALID files of every variant the readers
+// accept, one folder per fuzz target: <out>/ply, <out>/pcd, <out>/xyz, <out>/transform.
+// Usage: ppcr_fuzz_make_seeds <output folder>. Generated at build time, never committed.
+#include <lzf.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "ppcr/io.hpp"
+
+namespace {
+
+template <typename T>
+void put(std::string* out, T value, bool big_endian = false) {
+  unsigned char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  for (std::size_t i = 0; i < sizeof(T); ++i) {
+    out->push_back(static_cast<char>(bytes[big_endian ? sizeof(T) - 1 - i : i]));
+  }
+}
+
+bool save(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return static_cast<bool>(f);
+}
+
+std::string ply_seed(const char* encoding, bool big_endian, bool faces_first) {
+  std::string f = std::string("ply\nformat ") + encoding + " 1.0\ncomment seed\nobj_info seed\n";
+  const std::string faces = "element face 1\nproperty list uchar int vertex_indices\n";
+  if (faces_first) f += faces;
+  f += "element vertex 3\nproperty float x\nproperty uchar red\nproperty double y\n"
+       "property list ushort short extra\nproperty int z\n";
+  if (!faces_first) f += faces;
+  f += "end_header\n";
+  const bool ascii = std::strcmp(encoding, "ascii") == 0;
+  auto face = [&] {
+    if (ascii) {
+      f += "3 0 1 2\n";
+    } else {
+      put<std::uint8_t>(&f, 3, big_endian);
+      for (int i = 0; i < 3; ++i) put<std::int32_t>(&f, i, big_endian);
+    }
+  };
+  if (faces_first) face();
+  for (int v = 0; v < 3; ++v) {
+    if (ascii) {
+      f += std::to_string(0.5 * v) + " 200 " + std::to_string(-1.25 * v) + " 2 7 8 " +
+           std::to_string(v) + "\n";
+    } else {
+      put<float>(&f, 0.5f * static_cast<float>(v), big_endian);
+      put<std::uint8_t>(&f, 200, big_endian);
+      put<double>(&f, -1.25 * v, big_endian);
+      put<std::uint16_t>(&f, 2, big_endian);
+      put<std::int16_t>(&f, 7, big_endian);
+      put<std::int16_t>(&f, 8, big_endian);
+      put<std::int32_t>(&f, v, big_endian);
+    }
+  }
+  if (!faces_first) face();
+  return f;
+}
+
+const char kPcdHead[] =
+    "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal _ rgb\n"
+    "SIZE 4 8 2 4 1 4\nTYPE F F I F U U\nCOUNT 1 1 1 3 2 1\nWIDTH 2\nHEIGHT 2\n"
+    "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\n";
+
+void pcd_point(std::string* f, int i) {
+  put<float>(f, i == 2 ? std::numeric_limits<float>::quiet_NaN() : 0.5f * static_cast<float>(i));
+  put<double>(f, -0.25 * i);
+  put<std::int16_t>(f, static_cast<std::int16_t>(i));
+  for (int k = 0; k < 3; ++k) put<float>(f, 1.0f);
+  f->append("\0\0", 2);
+  put<std::uint32_t>(f, 0xff00ffu);
+}
+
+std::string pcd_compressed() {
+  // structure of arrays, without the "_" padding field (as PCL writes it)
+  std::string soa;
+  for (int i = 0; i < 4; ++i) put<float>(&soa, 0.5f * static_cast<float>(i));
+  for (int i = 0; i < 4; ++i) put<double>(&soa, -0.25 * i);
+  for (int i = 0; i < 4; ++i) put<std::int16_t>(&soa, static_cast<std::int16_t>(i));
+  for (int i = 0; i < 12; ++i) put<float>(&soa, 1.0f);
+  for (int i = 0; i < 4; ++i) put<std::uint32_t>(&soa, 0xff00ffu);
+  std::string packed(soa.size() * 2 + 16, '\0');
+  const unsigned int n = lzf_compress(soa.data(), static_cast<unsigned int>(soa.size()), &packed[0],
+                                      static_cast<unsigned int>(packed.size()));
+  packed.resize(n);
+  std::string f = std::string(kPcdHead) + "DATA binary_compressed\n";
+  put<std::uint32_t>(&f, n);
+  put<std::uint32_t>(&f, static_cast<std::uint32_t>(soa.size()));
+  return f + packed;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s <output folder>\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path out = argv[1];
+  for (const char* sub : {"ply", "pcd", "xyz", "transform"}) {
+    std::filesystem::create_directories(out / sub);
+  }
+  bool ok = true;
+  // PLY: every encoding, faces before/after, list property in the vertex element; our writer.
+  ok &= save(out / "ply" / "ascii.ply", ply_seed("ascii", false, true));
+  ok &= save(out / "ply" / "le.ply", ply_seed("binary_little_endian", false, false));
+  ok &= save(out / "ply" / "be.ply", ply_seed("binary_big_endian", true, true));
+  std::string crlf =
+      "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty float x\r\n"
+      "property float y\r\nproperty float z\r\nend_header\r\n1 2 3\r\nnan 0 0\r\n";
+  ok &= save(out / "ply" / "crlf.ply", crlf);
+  const ppcr::PointCloud cloud = {Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(-1, 2e10, 3)};
+  ok &= ppcr::io::write_cloud((out / "ply" / "written.ply").string(), cloud).ok();
+  // PCD: ascii, binary, binary_compressed, organized with NaN, an old v.5 header; our writer.
+  std::string ascii = std::string(kPcdHead) + "DATA ascii\n";
+  ascii +=
+      "0 0 0 1 1 1 0 0 16711935\n0.5 -0.25 1 1 1 1 0 0 16711935\n"
+      "nan nan nan 1 1 1 0 0 0\n1.5 -0.75 3 1 1 1 0 0 16711935\n";
+  ok &= save(out / "pcd" / "ascii.pcd", ascii);
+  std::string binary = std::string(kPcdHead) + "DATA binary\n";
+  for (int i = 0; i < 4; ++i) pcd_point(&binary, i);
+  ok &= save(out / "pcd" / "binary.pcd", binary);
+  ok &= save(out / "pcd" / "compressed.pcd", pcd_compressed());
+  ok &= save(out / "pcd" / "v5.pcd",
+             "VERSION .5\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nPOINTS 2\n"
+             "DATA ascii\n1 2 3\n4 5 6\n");
+  ok &= ppcr::io::write_cloud((out / "pcd" / "written.pcd").string(), cloud).ok();
+  // XYZ: blanks, CSV with header, comments, PTS count; our writer.
+  ok &= save(out / "xyz" / "plain.xyz", "1 2 3\n4\t5 6\n\n# c\n7 8 9 # t\r\n");
+  ok &= save(out / "xyz" / "header.csv", "x,y,z,i\n1.5,2,3,4\n-1e-3,+2,nan,0\n");
+  ok &= save(out / "xyz" / "scan.pts", "2\n1 2 3 4 5 6 7\n8 9 10 11 12 13 14\n");
+  ok &= ppcr::io::write_cloud((out / "xyz" / "written.xyz").string(), cloud).ok();
+  // Transforms: 16 numbers, 12 numbers with comments.
+  ok &= save(out / "transform" / "t16.txt", "1 0 0 1.5\n0 1 0 -2\n0 0 1 0.25\n0 0 0 1\n");
+  ok &= save(out / "transform" / "t12.txt", "# gt\n0.6 -0.8 0 1\n0.8 0.6 0 2 # row\n0 0 1 3\n");
+  if (!ok) {
+    std::fprintf(stderr, "could not write the seed corpus under %s\n", out.string().c_str());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Builds the ppcr_io fuzzers with clang, writes the seed corpus, and runs each target for a
+# fixed time. The numbers in fuzz/README.md come from this script.
+#   usage: fuzz/run_fuzzers.sh [seconds per target, default 120] [build folder, default build-fuzz]
+# Crash inputs land in <build>/fuzz/artifacts/<target>/; the growing corpus in corpus/<target>/.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(dirname "$here")"
+seconds="${1:-120}"
+build="${2:-$root/build-fuzz}"
+
+cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DPPCR_BUILD_FUZZERS=ON -DPPCR_BUILD_TESTS=OFF -DPPCR_BUILD_TOOLS=OFF
+cmake --build "$build" -j2 --target ppcr_fuzzers fuzz_seed_corpus
+
+cd "$build/fuzz"
+for target in ply pcd xyz transform; do
+  mkdir -p "corpus/$target" "artifacts/$target"
+  cp -n "seeds/$target/"* "corpus/$target/" || true  # keep what earlier runs found
+  echo "== fuzz_$target for ${seconds}s"
+  # -malloc_limit_mb: no input of at most 16 KiB may make the readers allocate 64 MB at once.
+  "./fuzz_$target" -max_total_time="$seconds" -dict="$here/$target.dict" \
+      -artifact_prefix="artifacts/$target/" -print_final_stats=1 -rss_limit_mb=2048 \
+      -malloc_limit_mb=64 -max_len=16384 -timeout=10 "corpus/$target" 2>&1 |
+    grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)|ERROR|SUMMARY' || true
+done

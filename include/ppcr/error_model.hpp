@@ -1,0 +1,30 @@
+// error_model.hpp - how the error of an association is measured.
+//
+//  kPoint (the paper's): r_kj = |e_kj|^2, e_kj = y_k - T x_j.
+//  kPlane (beyond the paper): r_kj = e_kj^T Omega_k e_kj with, for each target point,
+//     Omega_k = n_k n_k^T + epsilon I,
+//  n_k the unit normal of a plane fitted (PCA) to the target point's normal_neighbours nearest
+//  target points. The error along the local surface normal counts fully, the error along the
+//  surface by epsilon only, so the registration no longer has to drag points along a surface to
+//  their sampled counterparts (the bias and slow creep of point-to-point errors on scans), while
+//  epsilon keeps every direction weakly constrained. Target points whose neighbourhood is too
+//  small (fewer than 5 points) keep Omega_k = I. Why n n^T + epsilon I rather than GICP's
+//  inverse regularised covariance: the same surface-aligned metric with one scalar to tune, an
+//  information matrix that is never singular, and 4 numbers per target point instead of 6.
+//  The Mahalanobis r_kj replaces |e_kj|^2 everywhere: in the E-step weights, the cost, the EM
+//  scale, the LM normal equations (Omega inside the 6x6 reduction) and the criteria.
+#pragma once
+
+namespace ppcr {
+
+enum class ErrorModel {
+  kPoint,  // point-to-point (paper eq. 1)
+  kPlane,  // plane-aware Mahalanobis error (see above)
+};
+
+struct PlaneOptions {
+  int normal_neighbours = 20;  // target points in each PCA plane fit (>= 5)
+  double epsilon = 0.05;       // in-plane weight of Omega = n n^T + epsilon I (> 0, <= 1)
+};
+
+}  // namespace ppcr

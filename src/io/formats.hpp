@@ -1,0 +1,32 @@
+// formats.hpp - the per-format readers and writers behind ppcr/io.hpp (private to ppcr_io).
+//
+// Readers take the whole file in memory, replace *cloud (cleared first) and fill *report
+// (never null here). Writers stream to the path through a checked FileWriter.
+#pragma once
+
+#include <string>
+
+#include "ppcr/io.hpp"
+#include "reader_common.hpp"
+
+namespace ppcr {
+namespace io {
+namespace detail {
+
+Status read_ply(const Input& in, PointCloud* cloud, ReadReport* report);
+Status read_pcd(const Input& in, PointCloud* cloud, ReadReport* report);
+Status read_xyz(const Input& in, PointCloud* cloud, ReadReport* report);
+
+Status write_ply(const std::string& path, const PointCloud& cloud);
+Status write_pcd(const std::string& path, const PointCloud& cloud);
+Status write_xyz(const std::string& path, const PointCloud& cloud);
+
+/// The format named by the path's extension (.ply .pcd .xyz .txt .csv .pts, any case), else kAuto.
+Format format_from_extension_impl(const std::string& path);
+
+/// The format recognised from the first bytes, else kAuto.
+Format format_from_content(const char* data, std::size_t size);
+
+}  // namespace detail
+}  // namespace io
+}  // namespace ppcr

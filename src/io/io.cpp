@@ -1,0 +1,119 @@
+// io.cpp - the public entry points of ppcr_io (ppcr/io.hpp): format choice and dispatch to the
+// per-format readers and writers, with exceptions contained (see guard.hpp).
+#include "ppcr/io.hpp"
+
+#include <string>
+#include <utility>
+
+#include "file_access.hpp"
+#include "formats.hpp"
+#include "guard.hpp"
+#include "text_scan.hpp"
+
+namespace ppcr {
+namespace io {
+namespace {
+
+Status read_buffer(const std::string& name, const char* data, std::size_t size, Format format,
+                   PointCloud* cloud, ReadReport* report) {
+  if (size == 0) return Status(StatusCode::kParseError, name + ": file is empty (0 bytes)");
+  if (data == nullptr) {
+    return Status(StatusCode::kInvalidArgument,
+                  name + ": null data pointer with size " + std::to_string(size));
+  }
+  if (format == Format::kAuto) format = detail::format_from_extension_impl(name);
+  if (format == Format::kAuto) format = detail::format_from_content(data, size);
+  const detail::Input in{name, data, size};
+  switch (format) {
+    case Format::kPly:
+      return detail::read_ply(in, cloud, report);
+    case Format::kPcd:
+      return detail::read_pcd(in, cloud, report);
+    case Format::kXyz:
+      return detail::read_xyz(in, cloud, report);
+    case Format::kAuto:
+      break;
+  }
+  return Status(StatusCode::kParseError,
+                name +
+                    ": unknown point cloud format: the extension is not .ply .pcd .xyz .txt "
+                    ".csv or .pts, and the first bytes '" +
+                    detail::escape_for_message(std::string_view(data, size), 24) +
+                    "' are neither a PLY nor a PCD header nor numbers");
+}
+
+}  // namespace
+
+const char* to_string(Format format) {
+  switch (format) {
+    case Format::kAuto:
+      return "auto";
+    case Format::kPly:
+      return "ply";
+    case Format::kPcd:
+      return "pcd";
+    case Format::kXyz:
+      return "xyz";
+  }
+  return "unknown";
+}
+
+Format format_from_extension(const std::string& path) {
+  return detail::format_from_extension_impl(path);
+}
+
+Status read_cloud_from_buffer(const std::string& name, const char* data, std::size_t size,
+                              Format format, PointCloud* cloud, ReadReport* report) {
+  Status status = detail::guarded(name, [&]() -> Status {
+    if (cloud == nullptr) {
+      return Status(StatusCode::kInvalidArgument, name + ": null output cloud");
+    }
+    ReadReport local;
+    Status read_status = read_buffer(name, data, size, format, cloud, &local);
+    if (report != nullptr) *report = std::move(local);
+    return read_status;
+  });
+  // Never a partial cloud on failure (also when an exception, e.g. bad_alloc, was contained).
+  if (!status.ok() && cloud != nullptr) cloud->clear();
+  return status;
+}
+
+Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report, Format format) {
+  Status status = detail::guarded(path, [&]() -> Status {
+    if (cloud == nullptr) {
+      return Status(StatusCode::kInvalidArgument, path + ": null output cloud");
+    }
+    cloud->clear();
+    if (report != nullptr) *report = ReadReport();
+    std::string bytes;
+    Status file_status = detail::read_file_bytes(path, &bytes);
+    if (!file_status.ok()) return file_status;
+    return read_cloud_from_buffer(path, bytes.data(), bytes.size(), format, cloud, report);
+  });
+  if (!status.ok() && cloud != nullptr) cloud->clear();
+  return status;
+}
+
+Status write_cloud(const std::string& path, const PointCloud& cloud, Format format) {
+  return detail::guarded(path, [&]() -> Status {
+    const Format chosen =
+        format == Format::kAuto ? detail::format_from_extension_impl(path) : format;
+    switch (chosen) {
+      case Format::kPly:
+        return detail::write_ply(path, cloud);
+      case Format::kPcd:
+        return detail::write_pcd(path, cloud);
+      case Format::kXyz:
+        return detail::write_xyz(path, cloud);
+      case Format::kAuto:
+        break;
+    }
+    return Status(StatusCode::kInvalidArgument,
+                  path +
+                      ": cannot choose an output format from the extension (expected .ply, "
+                      ".pcd, .xyz, .txt, .csv or .pts), and none was given");
+  });
+}
+
+}  // namespace io
+}  // namespace ppcr

@@ -1,0 +1,45 @@
+// target_normals.cpp - PCA normals of the target (plane error model).
+#include "target_normals.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+
+#include "parallel.hpp"
+
+namespace ppcr {
+namespace detail {
+
+void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
+                     std::vector<Eigen::Vector3d>* normals) {
+  normals->assign(points.size(), Eigen::Vector3d::Zero());
+  constexpr int kMaxNeighbours = 64;
+  const int k = std::min(neighbours, kMaxNeighbours);
+  const double unbounded = std::numeric_limits<double>::max();
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(points.size()), [&](std::ptrdiff_t i) {
+    std::uint32_t idx[kMaxNeighbours];
+    double d2[kMaxNeighbours];
+    const Eigen::Vector3d& q = points[static_cast<std::size_t>(i)];
+    const int n = tree.radius_knn(q, k, unbounded, idx, d2);
+    if (n < 5) return;
+    // Covariance about the neighbourhood's mean (two passes: no cancellation).
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int m = 0; m < n; ++m) mean += points[idx[m]];
+    mean /= n;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (int m = 0; m < n; ++m) {
+      const Eigen::Vector3d d = points[idx[m]] - mean;
+      C.noalias() += d * d.transpose();
+    }
+    // Eigen's closed-form 3x3 solver; eigenvalues ascending, so column 0 is the normal.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(C / n);
+    const Eigen::Vector3d normal = eig.eigenvectors().col(0);
+    if (normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
+      (*normals)[static_cast<std::size_t>(i)] = normal;
+    }
+  });
+}
+
+}  // namespace detail
+}  // namespace ppcr

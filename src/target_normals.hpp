@@ -1,0 +1,20 @@
+// target_normals.hpp - per-target-point normals for the plane error model (error_model.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "kdtree.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+/// Fits a plane (PCA: the eigenvector of the smallest eigenvalue of the neighbourhood's
+/// covariance) to the `neighbours` nearest points of each target point, in parallel. normals[i]
+/// is a unit vector, or zero when fewer than 5 points were found. Allocation-free per point.
+void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
+                     std::vector<Eigen::Vector3d>* normals);
+
+}  // namespace detail
+}  // namespace ppcr

@@ -1,0 +1,47 @@
+// method.hpp - a registration method run by ppcr_bench: ppcr itself, or a peer (PCL, Open3D)
+// when built with PPCR_BUILD_PEERS. Every method gets the same preprocessed clouds.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ppcr/registration.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr_bench {
+
+/// What every method is told (the protocol's shared parameters, from the registration flags).
+struct MethodSettings {
+  ppcr::RegistrationOptions ppcr;   // ppcr's options (voxel filtering already done by the bench)
+  double max_correspondence = 1.0;  // ICP / GICP max correspondence distance (= --radius)
+  double ndt_resolution = 1.0;      // NDT cell size (= 2 x --radius by default)
+  int max_iterations = 100;         // iteration cap for the peers (= --max-iterations)
+  int threads = 1;
+};
+
+struct MethodResult {
+  bool ok = false;
+  std::string message;  // why not ok
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  int iterations = 0;
+  std::string stop_reason;
+  bool converged = false;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual std::string name() const = 0;
+  /// Registers source onto target from identity. Timed by the caller, whole call.
+  virtual MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) = 0;
+};
+
+/// Method names this build offers ("ppcr" always; "pcl-icp", ... with peers).
+std::vector<std::string> available_methods();
+
+/// Creates a method by name, or nullptr if unknown / not built.
+std::unique_ptr<Method> make_method(const std::string& name, const MethodSettings& settings);
+
+}  // namespace ppcr_bench

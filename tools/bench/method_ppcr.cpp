@@ -1,0 +1,57 @@
+// method_ppcr.cpp - ppcr as a benchmark method, and the method registry.
+#include <memory>
+
+#include "bench/method.hpp"
+
+#ifdef PPCR_HAVE_PEERS
+#include "bench/peers.hpp"
+#endif
+
+namespace ppcr_bench {
+namespace {
+
+class PpcrMethod : public Method {
+ public:
+  explicit PpcrMethod(const ppcr::RegistrationOptions& options) : options_(options) {}
+  std::string name() const override { return "ppcr"; }
+  MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) override {
+    const ppcr::RegistrationResult r = ppcr::align(source, target, options_);
+    MethodResult out;
+    out.ok = r.status.ok();
+    out.message = r.status.message();
+    out.T_target_source = r.T_target_source;
+    out.iterations = r.iterations;
+    out.stop_reason = ppcr::to_string(r.stop_reason);
+    out.converged = r.converged();
+    return out;
+  }
+
+ private:
+  ppcr::RegistrationOptions options_;
+};
+
+}  // namespace
+
+std::vector<std::string> available_methods() {
+  std::vector<std::string> names = {"ppcr"};
+#ifdef PPCR_HAVE_PEERS
+  for (const std::string& n : peer_methods()) names.push_back(n);
+#endif
+  return names;
+}
+
+std::unique_ptr<Method> make_method(const std::string& name, const MethodSettings& settings) {
+  if (name == "ppcr") {
+    ppcr::RegistrationOptions options = settings.ppcr;
+    options.source_voxel = options.target_voxel = 0.0;  // the bench filters once, for everyone
+    options.record_history = false;
+    return std::make_unique<PpcrMethod>(options);
+  }
+#ifdef PPCR_HAVE_PEERS
+  return make_peer(name, settings);
+#else
+  return nullptr;
+#endif
+}
+
+}  // namespace ppcr_bench

@@ -1,0 +1,137 @@
+#!/usr/bin/env bash
+# Runs every ppcr_bench method (ppcr variants and every peer this build has) on both benchmark
+# sets with the protocol of the docs' reference figures, and writes per-problem CSVs, JSON
+# summaries and a markdown table. Every "ppcr vs X" figure in the docs comes from one such run.
+#
+#   tools/bench/run_all.sh [OUT_DIR]        (default OUT_DIR: build/bench-results)
+#
+# Environment:
+#   PPCR_BUILD_DIR   build folder, configured Release with -DPPCR_BUILD_PEERS=ON and
+#                    (re)built here (default build/peers)
+#   PPCR_JOBS        build jobs (default 2)
+#   PPCR_DATA_DIR    folder holding benchmark/ (default ../shared/data beside the project)
+#   PPCR_BENCH_LIMIT run only the first N problems of each set (default: all; for quick checks)
+#   PPCR_BENCH_SETS  sets to run (default "bunny lidar")
+#   PPCR_SKIP_BUILD  1 = use the existing ppcr_bench in PPCR_BUILD_DIR as it is
+#
+# Outputs in OUT_DIR: <set>_<method>.csv (one row per problem), <set>_<method>.json (summary),
+# <set>_<method>.log (stderr), summary.md (machine, commands, table), summary.json (all rows).
+# Needs the peers' packages (Debian: libpcl-dev; libopen3d-dev for the Open3D methods).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+out=${1:-build/bench-results}
+build=${PPCR_BUILD_DIR:-build/peers}
+jobs=${PPCR_JOBS:-2}
+data=${PPCR_DATA_DIR:-$root/../shared/data}/benchmark
+limit=${PPCR_BENCH_LIMIT:-0}
+sets=${PPCR_BENCH_SETS:-bunny lidar}
+
+if [[ ${PPCR_SKIP_BUILD:-0} != 1 ]]; then
+  echo "== build ppcr_bench with peers in $build"
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DPPCR_BUILD_PEERS=ON -DPPCR_BUILD_TESTS=OFF
+  cmake --build "$build" -j "$jobs" --target ppcr_bench
+fi
+bench="$build/tools/bench/ppcr_bench"
+[[ -x $bench ]] || { echo "run_all.sh: $bench not found (build it first)" >&2; exit 1; }
+for s in $sets; do
+  [[ -f $data/${s}_local.txt ]] || { echo "run_all.sh: $data/${s}_local.txt not found" >&2; exit 1; }
+done
+mkdir -p "$out"
+
+# Every method this build offers, from the --method help ("registration method: a b c (default").
+methods=$("$bench" --help | tr '\n' ' ' | sed -n 's/.*registration method:\([^(]*\)(default.*/\1/p')
+[[ -n $methods ]] || { echo "run_all.sh: cannot read the method list from --help" >&2; exit 1; }
+
+# The protocol of the reference figures, per set.
+protocol() {
+  case $1 in
+    bunny) echo "--radius 0.02 --source-voxel 0.002 --target-voxel 0.002 --success-translation 0.002" ;;
+    lidar) echo "--radius 1 --source-voxel 0.2 --target-voxel 0.2 --success-translation 0.1" ;;
+    *) echo "run_all.sh: no protocol for set '$1'" >&2; exit 1 ;;
+  esac
+}
+
+# Runs: label|ppcr_bench arguments. ppcr in three variants, then every peer.
+runs=("ppcr|--method ppcr" "ppcr-gaussian|--method ppcr --gaussian" "ppcr-scale-raw|--method ppcr --scale raw")
+for m in $methods; do
+  [[ $m == ppcr ]] || runs+=("$m|--method $m")
+done
+
+commands=()
+failed=0
+for s in $sets; do
+  for run in "${runs[@]}"; do
+    label=${run%%|*}
+    args=${run#*|}
+    cmd="$bench $data/${s}_local.txt $args $(protocol "$s") --threads 1"
+    ((limit > 0)) && cmd+=" --limit $limit"
+    cmd+=" --quiet --json --out $out/${s}_${label}.csv"
+    commands+=("$cmd")
+    echo "== $s $label"
+    start=$(date +%s)
+    # shellcheck disable=SC2086  # cmd is a word list we built
+    if $cmd >"$out/${s}_${label}.json" 2>"$out/${s}_${label}.log"; then
+      echo "   $(cat "$out/${s}_${label}.json")  ($(($(date +%s) - start)) s)"
+    else
+      echo "   FAILED (exit $?), see $out/${s}_${label}.log"
+      echo "{\"method\":\"$label\",\"failed\":true}" >"$out/${s}_${label}.json"
+      failed=$((failed + 1))
+    fi
+  done
+done
+
+# summary.md: machine, exact commands, table.
+model=$(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -n 1)
+{
+  echo "# ppcr_bench: ppcr and peers on the benchmark sets"
+  echo
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+  echo "- machine: $(nproc) cores (nproc), ${model:-unknown CPU}, load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "- $("$bench" --version), commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  echo "- compiler: $(c++ --version | head -n 1)"
+  for p in libpcl-dev libopen3d-dev; do
+    v=$(dpkg-query -W -f='${Version}' "$p" 2>/dev/null || true)
+    [[ -n $v ]] && echo "- $p $v"
+  done
+  echo "- protocol: single thread (--threads 1); time is the registration call only (the"
+  echo "  peers' cloud conversion, kd-trees, normals / covariances / NDT grid included)"
+  echo "- success: rotation error < 1 degree and translation error < the --success-translation bound"
+  echo
+  echo "Commands:"
+  echo
+  echo '```'
+  printf '%s\n' "${commands[@]}"
+  echo '```'
+  echo
+} >"$out/summary.md"
+python3 - "$out" "$sets" "${runs[@]}" >>"$out/summary.md" <<'EOF'
+import json, sys
+out, sets, runs = sys.argv[1], sys.argv[2].split(), [r.split("|")[0] for r in sys.argv[3:]]
+rows = []
+print("| set | method | median | q75 | q95 | success | mean iterations | median ms | max ms |")
+print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+for s in sets:
+    for label in runs:
+        with open(f"{out}/{s}_{label}.json") as f:
+            j = json.load(f)
+        j["set"], j["label"] = s, label
+        rows.append(j)
+        if j.get("failed"):
+            print(f"| {s} | {label} | failed | | | | | | |")
+            continue
+        print(f"| {s} | {label} | {j['median']:.4g} | {j['q75']:.4g} | {j['q95']:.4g} | "
+              f"{100 * j['success']:.0f} % | {j['mean_iterations']:.1f} | "
+              f"{j['median_ms']:.0f} | {j['max_ms']:.0f} |")
+notes = [r for r in rows if not r.get("failed") and r["failures"]]
+if notes:
+    print()
+for r in notes:
+    print(f"- {r['set']} {r['label']}: {r['failures']} problem(s) failed to run "
+          f"(counted with the error of the transform returned)")
+with open(f"{out}/summary.json", "w") as f:
+    json.dump(rows, f, indent=1)
+EOF
+echo "== wrote $out/summary.md"
+cat "$out/summary.md"
+((failed == 0)) || { echo "run_all.sh: $failed run(s) failed" >&2; exit 1; }

@@ -1,0 +1,33 @@
+// summary.hpp - quantiles and the summary of a benchmark run.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace ppcr_bench {
+
+/// Quantile with linear interpolation between order statistics (numpy's default, "type 7").
+/// Returns NaN for an empty sample.
+double quantile(std::vector<double> values, double q);
+
+struct Summary {
+  std::size_t problems = 0;
+  double median = 0.0, q75 = 0.0, q95 = 0.0;  // of the benchmark error
+  double success = 0.0;                       // fraction in [0, 1]
+  double mean_iterations = 0.0;
+  double median_ms = 0.0, max_ms = 0.0;
+};
+
+struct ProblemOutcome {
+  double error = 0.0;  // benchmark error
+  double rotation_error_deg = 0.0;
+  double translation_error = 0.0;
+  int iterations = 0;
+  double time_ms = 0.0;
+};
+
+/// success: rotation error < success_rotation_deg and translation error < success_translation.
+Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_rotation_deg,
+                  double success_translation);
+
+}  // namespace ppcr_bench
