@@ -305,7 +305,10 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     }
     const double scale_sq = scale.scale_sq();
     // Plane model: point-to-point while the scale is coarse (wider basin), then plane-aware.
-    problem.plane = o.error_model == ErrorModel::kPlane && !scale.coarse() ? &m.plane : nullptr;
+    problem.plane =
+        o.error_model == ErrorModel::kPlane && !(o.plane.point_while_coarse && scale.coarse())
+            ? &m.plane
+            : nullptr;
     problem.weights.inv_scale_sq = 1.0 / scale_sq;
 
     const LMSummary lm = m.lm.solve(o.lm, problem, &T);

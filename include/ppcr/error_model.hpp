@@ -23,8 +23,10 @@ enum class ErrorModel {
 };
 
 struct PlaneOptions {
-  int normal_neighbours = 20;  // target points in each PCA plane fit (>= 5)
-  double epsilon = 0.05;       // in-plane weight of Omega = n n^T + epsilon I (> 0, <= 1)
+  int normal_neighbours = 20;       // target points in each PCA plane fit (>= 5)
+  double epsilon = 0.05;            // in-plane weight of Omega = n n^T + epsilon I (> 0, <= 1)
+  bool point_while_coarse = false;  // with the EM scale: point-to-point errors during its coarse
+                                    // phase (a wider basin far from the solution), plane after
 };
 
 }  // namespace ppcr

@@ -30,7 +30,8 @@ struct RegistrationOptions {
                             // than this from a transformed source point are ignored
   int max_neighbours = 10;  // associations per source point, k (>= 1)
   WeightOptions weights;    // E-step model, dof and scale
-  ErrorModel error_model = ErrorModel::kPoint;  // point-to-point (paper) or plane-aware
+  ErrorModel error_model = ErrorModel::kPlane;  // plane-aware (default, measured: README)
+                                                // or point-to-point (the paper's)
   PlaneOptions plane;                           // kPlane: normal estimation and in-plane weight
   LMOptions lm;                                 // inner loop
   TerminationCriteria termination;              // outer loop

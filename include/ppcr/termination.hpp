@@ -54,7 +54,7 @@ struct TerminationCriteria {
   double cost_drop_threshold = 0.01;   // kCriterionCostDrop: relative drop (fraction, paper 1 %)
   int cost_drop_patience = 10;         // kCriterionCostDrop: consecutive low iterations tolerated
                                        // (paper 10; 20 in its Table 5)
-  double cost_drop_max_motion = 0.0;   // kCriterionCostDrop: if > 0, an iteration counts as low
+  double cost_drop_max_motion = 0.02;  // kCriterionCostDrop: if > 0, an iteration counts as low
                                        // only when it also moved the source by less than this
                                        // fraction of the radius (RMS, sqrt of MSE_t); 0 = the
                                        // paper's rule (cost drop alone)

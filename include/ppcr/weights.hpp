@@ -42,19 +42,19 @@ struct WeightOptions {
   WeightModel model = WeightModel::kStudentT;
   double dof = 5.0;  // Student-t degrees of freedom nu (> 0); the authors' default
   ScaleMode scale_mode = ScaleMode::kEM;
-  double scale = 0.0;                 // kFixed: s, cloud units (> 0). kEM: coarse s, cloud units
-                                      // (0 = radius / 2). Unused by kRaw.
-  double em_coarse_drop = 0.01;       // kEM phase 1: relative cost drop counted as settled
-  int em_coarse_patience = 10;        // kEM phase 1: settled after more than this many
-                                      // consecutive iterations below em_coarse_drop
-  double em_coarse_motion = 1e-3;     // kEM phase 1: or after an iteration moving the source by
-                                      // less than this fraction of s (RMS)
-  double em_coarse_max_motion = 0.0;  // kEM phase 1: if > 0, an iteration counts toward
-                                      // em_coarse_patience only when it moved the source by
-                                      // less than this fraction of the radius (RMS)
-  double em_min_shrink = 0.5;         // kEM phase 2: s^2 shrinks by at most this factor per outer
-                                      // iteration (0 < f <= 1)
-  double em_min_scale = 0.0;          // kEM phase 2: floor on s, cloud units (0 = none)
+  double scale = 0.0;                  // kFixed: s, cloud units (> 0). kEM: coarse s, cloud units
+                                       // (0 = radius / 2). Unused by kRaw.
+  double em_coarse_drop = 0.01;        // kEM phase 1: relative cost drop counted as settled
+  int em_coarse_patience = 10;         // kEM phase 1: settled after more than this many
+                                       // consecutive iterations below em_coarse_drop
+  double em_coarse_motion = 1e-3;      // kEM phase 1: or after an iteration moving the source by
+                                       // less than this fraction of s (RMS)
+  double em_coarse_max_motion = 0.02;  // kEM phase 1: if > 0, an iteration counts toward
+                                       // em_coarse_patience only when it moved the source by
+                                       // less than this fraction of the radius (RMS)
+  double em_min_shrink = 0.5;          // kEM phase 2: s^2 shrinks by at most this factor per outer
+                                       // iteration (0 < f <= 1)
+  double em_min_scale = 0.0;           // kEM phase 2: floor on s, cloud units (0 = none)
 };
 
 /// Computes the weights of one source point's n associations from their squared errors.

@@ -28,6 +28,7 @@ struct MethodResult {
   int iterations = 0;
   std::string stop_reason;
   bool converged = false;
+  std::vector<ppcr::IterationRecord> history;  // ppcr with set_trace(): one row per iteration
 };
 
 class Method {
@@ -36,6 +37,9 @@ class Method {
   virtual std::string name() const = 0;
   /// Registers source onto target from identity. Timed by the caller, whole call.
   virtual MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) = 0;
+  /// Methods that can trace their iterations (ppcr) record the next run's history, with the
+  /// ground-truth columns filled from T_gt. Others ignore it.
+  virtual void set_trace(const Eigen::Isometry3d* T_gt) { (void)T_gt; }
 };
 
 /// Method names this build offers ("ppcr" always; "pcl-icp", ... with peers).

@@ -14,8 +14,15 @@ class PpcrMethod : public Method {
  public:
   explicit PpcrMethod(const ppcr::RegistrationOptions& options) : options_(options) {}
   std::string name() const override { return "ppcr"; }
+  void set_trace(const Eigen::Isometry3d* T_gt) override {
+    trace_ = T_gt != nullptr;
+    if (trace_) T_gt_ = *T_gt;
+  }
   MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) override {
-    const ppcr::RegistrationResult r = ppcr::align(source, target, options_);
+    ppcr::RegistrationOptions options = options_;
+    options.record_history = trace_;
+    const ppcr::RegistrationResult r = ppcr::align(
+        source, target, options, Eigen::Isometry3d::Identity(), trace_ ? &T_gt_ : nullptr);
     MethodResult out;
     out.ok = r.status.ok();
     out.message = r.status.message();
@@ -23,11 +30,14 @@ class PpcrMethod : public Method {
     out.iterations = r.iterations;
     out.stop_reason = ppcr::to_string(r.stop_reason);
     out.converged = r.converged();
+    out.history = r.history;
     return out;
   }
 
  private:
   ppcr::RegistrationOptions options_;
+  bool trace_ = false;
+  Eigen::Isometry3d T_gt_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace

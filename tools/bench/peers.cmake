@@ -2,6 +2,7 @@
 # PPCR_BUILD_PEERS is ON): PCL's ICP, GICP and NDT (required; Debian: libpcl-dev) and Open3D's
 # ICP, point-to-plane ICP and GICP (when found; Debian: libopen3d-dev). Only ppcr_bench links
 # them: the core library and the other tools never see PCL or Open3D.
+
 # PCL's config looks for VTK as an optional dependency of pcl_2d (pulled in by registration), and
 # Debian's VTK 9.1 config then fails on a missing MPI::MPI_C target; registration needs no VTK, so
 # keep that search off (this directory scope only).

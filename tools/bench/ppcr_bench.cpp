@@ -22,6 +22,7 @@
 #include "bench/problems.hpp"
 #include "bench/summary.hpp"
 #include "common/registration_flags.hpp"
+#include "common/result_output.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/version.hpp"
@@ -113,7 +114,16 @@ int main(int argc, char** argv) {
   app.add_option("--limit", limit, "run only the first N problems");
   app.add_option("--out", out_csv, "write one CSV row per problem");
   app.add_flag("--json", json, "print the summary as one JSON object");
+  std::string trace_dir;
+  app.add_option("--trace-dir", trace_dir,
+                 "ppcr: write DIR/<id>.csv, one row per outer iteration, with the MSE and "
+                 "benchmark error w.r.t. the ground truth (on the registered, filtered source)");
   app.add_flag("--quiet", quiet, "no progress bar");
+  std::string label;
+  app.add_option("--label", label, "name of this run in the summary and CSV (default: the method)");
+  double ndt_resolution = 0.0;
+  app.add_option("--ndt-resolution", ndt_resolution,
+                 "pcl-ndt cell size, cloud units (default 2 x radius)");
   app.add_option("--success-translation", success_translation,
                  "success bound on the translation error, cloud units (default 10 x radius / 100"
                  ", e.g. 2 mm for radius 0.02, 10 cm for radius 1)");
@@ -146,7 +156,7 @@ int main(int argc, char** argv) {
   ppcr_bench::MethodSettings settings;
   settings.ppcr = options;
   settings.max_correspondence = options.radius;
-  settings.ndt_resolution = 2.0 * options.radius;
+  settings.ndt_resolution = ndt_resolution > 0.0 ? ndt_resolution : 2.0 * options.radius;
   settings.max_iterations = options.termination.max_iterations;
   settings.threads = options.num_threads;
   std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(method_name, settings);
@@ -155,6 +165,7 @@ int main(int argc, char** argv) {
     for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
     return fail("--method " + method_name + ": unknown or not built (available:" + names + ")");
   }
+  if (label.empty()) label = method->name();
 
   std::FILE* csv = nullptr;
   if (!out_csv.empty()) {
@@ -183,11 +194,16 @@ int main(int argc, char** argv) {
     } else {
       S_filtered = S;
     }
+    const Eigen::Isometry3d T_gt = p.T0.inverse();
+    if (!trace_dir.empty()) method->set_trace(&T_gt);
     const auto start = std::chrono::steady_clock::now();
     const ppcr_bench::MethodResult r = method->run(S_filtered, *target);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const Eigen::Isometry3d T_gt = p.T0.inverse();
+    if (!trace_dir.empty()) {
+      s = ppcr_tools::write_trace_csv(trace_dir + "/" + p.id + ".csv", r.history);
+      if (!s.ok()) return fail(s.message());
+    }
     ppcr_bench::ProblemOutcome o;
     o.error = ppcr::benchmark_error(S, T_gt, r.T_target_source);
     o.rotation_error_deg = ppcr::rotation_error_deg(r.T_target_source, T_gt);
@@ -198,9 +214,9 @@ int main(int argc, char** argv) {
     if (!r.ok) ++failures;
     if (csv != nullptr) {
       std::fprintf(csv, "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu\n", p.id.c_str(),
-                   method->name().c_str(), o.error, o.rotation_error_deg, o.translation_error,
-                   o.iterations, r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0, ms,
-                   S_filtered.size(), target->size());
+                   label.c_str(), o.error, o.rotation_error_deg, o.translation_error, o.iterations,
+                   r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0, ms, S_filtered.size(),
+                   target->size());
     }
     if (bar) progress(i + 1, problems.size(), o.error);
   }
@@ -210,7 +226,7 @@ int main(int argc, char** argv) {
       ppcr_bench::summarize(outcomes, success_rotation, success_translation);
   if (json) {
     nlohmann::ordered_json j;
-    j["method"] = method->name();
+    j["method"] = label;
     j["problems"] = sum.problems;
     j["median"] = sum.median;
     j["q75"] = sum.q75;
@@ -222,8 +238,8 @@ int main(int argc, char** argv) {
     j["failures"] = failures;
     std::printf("%s\n", j.dump().c_str());
   } else {
-    std::printf("method %s, %zu problems (%zu failed to run)\n", method->name().c_str(),
-                sum.problems, failures);
+    std::printf("method %s, %zu problems (%zu failed to run)\n", label.c_str(), sum.problems,
+                failures);
     std::printf("error median %.6g  q0.75 %.6g  q0.95 %.6g\n", sum.median, sum.q75, sum.q95);
     std::printf("success %.1f %% (rotation < %g deg, translation < %g)\n", 100.0 * sum.success,
                 success_rotation, success_translation);

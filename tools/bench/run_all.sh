@@ -23,7 +23,8 @@ cd "$root"
 out=${1:-build/bench-results}
 build=${PPCR_BUILD_DIR:-build/peers}
 jobs=${PPCR_JOBS:-2}
-data=${PPCR_DATA_DIR:-$root/../shared/data}/benchmark
+data_dir=${PPCR_DATA_DIR:-$root/../shared/data}
+data=$(cd "$data_dir" 2>/dev/null && pwd || echo "$data_dir")/benchmark
 limit=${PPCR_BENCH_LIMIT:-0}
 sets=${PPCR_BENCH_SETS:-bunny lidar}
 
@@ -53,18 +54,25 @@ protocol() {
 }
 
 # Runs: label|ppcr_bench arguments. ppcr in three variants, then every peer.
-runs=("ppcr|--method ppcr" "ppcr-gaussian|--method ppcr --gaussian" "ppcr-scale-raw|--method ppcr --scale raw")
+# ppcr: the defaults (plane model); point = the paper's error with our EM scale and motion
+# guard; paper = the paper's own settings (point errors, raw units, cost drop alone).
+runs=("ppcr|--method ppcr" "ppcr-point|--method ppcr --error-model point"
+      "ppcr-gaussian|--method ppcr --gaussian"
+      "ppcr-paper|--method ppcr --error-model point --scale raw --motion-guard 0")
 for m in $methods; do
   [[ $m == ppcr ]] || runs+=("$m|--method $m")
 done
 
 commands=()
 failed=0
+load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 for s in $sets; do
   for run in "${runs[@]}"; do
     label=${run%%|*}
     args=${run#*|}
     cmd="$bench $data/${s}_local.txt $args $(protocol "$s") --threads 1"
+    # NDT's cell: 1 cm on the bunny (2 x radius = 4 cm stops ~10x worse), 2 x radius on lidar.
+    [[ $label == pcl-ndt && $s == bunny ]] && cmd+=" --ndt-resolution 0.01"
     ((limit > 0)) && cmd+=" --limit $limit"
     cmd+=" --quiet --json --out $out/${s}_${label}.csv"
     commands+=("$cmd")
@@ -87,7 +95,7 @@ model=$(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -n 1)
   echo "# ppcr_bench: ppcr and peers on the benchmark sets"
   echo
   echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC')"
-  echo "- machine: $(nproc) cores (nproc), ${model:-unknown CPU}, load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "- machine: $(nproc) cores (nproc), ${model:-unknown CPU}, load average (1, 5, 15 min) at the start: $load_start, at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "- $("$bench" --version), commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
   echo "- compiler: $(c++ --version | head -n 1)"
   for p in libpcl-dev libopen3d-dev; do

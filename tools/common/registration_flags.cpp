@@ -56,8 +56,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "successful-steps: low when LM accepted at most this many steps (default " +
                      std::to_string(f->steps_threshold) + ")");
   app.add_option("--error-model", f->error_model,
-                 "point (point-to-point, the paper's; default) or plane (Mahalanobis error along "
-                 "the target's local surface normal)");
+                 "plane (Mahalanobis error along the target's local surface normal; default) or "
+                 "point (point-to-point, the paper's)");
   app.add_option("--plane-epsilon", f->plane_epsilon,
                  "plane model: in-plane weight of Omega = n n^T + epsilon I (default " +
                      str(f->plane_epsilon) + ")");
@@ -66,8 +66,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                      std::to_string(f->normal_neighbours) + ")");
   app.add_option("--motion-guard", f->motion_guard,
                  "an iteration counts as settled (cost-drop criterion and EM coarse phase) only "
-                 "if it moved the source by less than this fraction of the radius, RMS (default "
-                 "0 = off, the paper's rule)");
+                 "if it moved the source by less than this fraction of the radius, RMS (default " +
+                     str(f->motion_guard) + "; 0 = the paper's rule)");
   app.add_option("--coarse-patience", f->coarse_patience,
                  "EM scale: settled iterations ending the coarse phase (default " +
                      std::to_string(f->coarse_patience) + ")");

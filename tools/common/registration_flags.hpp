@@ -25,10 +25,13 @@ struct RegistrationFlags {
   double mse_ratio = ppcr::TerminationCriteria().mse_ratio_threshold;
   int mse_patience = ppcr::TerminationCriteria().mse_patience;
   int steps_threshold = ppcr::TerminationCriteria().successful_steps_threshold;
-  std::string error_model = "point";  // point | plane
+  std::string error_model =
+      ppcr::RegistrationOptions().error_model == ppcr::ErrorModel::kPlane ? "plane" : "point";
   double plane_epsilon = ppcr::PlaneOptions().epsilon;
   int normal_neighbours = ppcr::PlaneOptions().normal_neighbours;
-  double motion_guard = 0.0;  // cost-drop / coarse-phase motion guard (fraction of radius)
+  double motion_guard =
+      ppcr::TerminationCriteria()
+          .cost_drop_max_motion;  // cost-drop / coarse-phase motion guard (fraction of radius)
   int coarse_patience = ppcr::WeightOptions().em_coarse_patience;
   double source_voxel = 0.0;
   double target_voxel = 0.0;
