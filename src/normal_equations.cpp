@@ -72,24 +72,37 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       // E-step at this pose (eq. 2-4): w = c * u.
       const PointWeights pw = e_step(r, count, w);
       if constexpr (kPlane) {
-        // Obar = c (A I + N), ebar = c sum_k u_k Omega_k e_k.
+        // Obar = c (A I + N), N = sum_k u_k n_k n_k^T (symmetric: 6 sums),
+        // ebar = c sum_k u_k (a_k e_k + n_k (n_k . e_k)).
         double A = 0.0, U = 0.0, ur = 0.0;
-        Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
-        Eigen::Vector3d ebar = Eigen::Vector3d::Zero();
+        double n00 = 0.0, n01 = 0.0, n02 = 0.0, n11 = 0.0, n12 = 0.0, n22 = 0.0;
+        double bx = 0.0, by = 0.0, bz = 0.0;
         for (std::size_t m = 0; m < count; ++m) {
           const double u = w[m];
           const Eigen::Vector3d& nk = (*normals)[idx[m]];
-          const Eigen::Vector3d e = target[idx[m]] - p;
-          const double a = omega_isotropic(nk, epsilon);
-          A += u * a;
+          const Eigen::Vector3d& y = target[idx[m]];
+          const double ex = y.x() - p.x(), ey = y.y() - p.y(), ez = y.z() - p.z();
+          const double ua = u * omega_isotropic(nk, epsilon);
+          const double une = u * (nk.x() * ex + nk.y() * ey + nk.z() * ez);
+          const double unx = u * nk.x(), uny = u * nk.y(), unz = u * nk.z();
+          A += ua;
           U += u;
-          N.noalias() += (u * nk) * nk.transpose();
-          ebar += u * (a * e + nk * nk.dot(e));
           ur += u * r[m];
+          n00 += unx * nk.x();
+          n01 += unx * nk.y();
+          n02 += unx * nk.z();
+          n11 += uny * nk.y();
+          n12 += uny * nk.z();
+          n22 += unz * nk.z();
+          bx += ua * ex + une * nk.x();
+          by += ua * ey + une * nk.y();
+          bz += ua * ez + une * nk.z();
           w[m] *= pw.c;
         }
-        const Eigen::Matrix3d Obar = pw.c * (N + A * Eigen::Matrix3d::Identity());
-        ebar *= pw.c;
+        Eigen::Matrix3d Obar;
+        Obar << n00 + A, n01, n02, n01, n11 + A, n12, n02, n12, n22 + A;
+        Obar *= pw.c;
+        const Eigen::Vector3d ebar = pw.c * Eigen::Vector3d(bx, by, bz);
         const Eigen::Matrix3d P = se3::skew(p);
         const Eigen::Matrix3d PO = P * Obar;  // [p]_x Obar
         s.H.topLeftCorner<3, 3>().noalias() -= PO * P;

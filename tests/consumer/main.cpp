@@ -1,0 +1,27 @@
+// The README's example, built by tests/consumer as an outside project (find_package and
+// add_subdirectory): register a curved surface moved by a known transform and check the result.
+#include <cmath>
+#include <cstdio>
+
+#include <ppcr/ppcr.hpp>
+
+int main() {
+  ppcr::PointCloud target;  // a wavy 1 m x 1 m surface, 2 cm spacing (metres)
+  for (double x = -0.5; x <= 0.5; x += 0.02)
+    for (double y = -0.5; y <= 0.5; y += 0.02)
+      target.emplace_back(x, y, 0.1 * std::sin(4 * x) * std::cos(3 * y) + 0.05 * x * y);
+  Eigen::Isometry3d T_true = Eigen::Isometry3d::Identity();  // maps source -> target
+  T_true.rotate(Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 0.3, 1).normalized()));
+  T_true.translation() << 0.03, -0.02, 0.01;
+  ppcr::PointCloud source;
+  for (const Eigen::Vector3d& p : target) source.push_back(T_true.inverse() * p);
+
+  ppcr::RegistrationOptions options;
+  options.radius = 0.1;  // metres: larger than the initial misalignment
+  const ppcr::RegistrationResult r = ppcr::align(source, target, options);
+  if (!r.status.ok()) return std::printf("%s\n", r.status.to_string().c_str()), 1;
+  const double rot = ppcr::rotation_error_deg(r.T_target_source, T_true);
+  std::printf("%d iterations (%s), rotation error %.2e deg\n", r.iterations,
+              ppcr::to_string(r.stop_reason), rot);
+  return rot < 0.01 ? 0 : 1;
+}
