@@ -1,5 +1,6 @@
 // make_seed_corpus.cpp - writes a seed corpus of small VALID files of every variant the readers
-// accept, one folder per fuzz target: <out>/ply, <out>/pcd, <out>/xyz, <out>/transform.
+// accept, one folder per fuzz target: <out>/ply, <out>/pcd, <out>/xyz, <out>/transform, and small
+// registration problems for fuzz_registration: <out>/registration.
 // Usage: ppcr_fuzz_make_seeds <output folder>. Generated at build time, never committed.
 #include <lzf.h>
 
@@ -11,6 +12,7 @@
 #include <limits>
 #include <string>
 
+#include "fuzz_registration_input.hpp"
 #include "ppcr/io.hpp"
 
 namespace {
@@ -98,6 +100,170 @@ std::string pcd_compressed() {
   return f + packed;
 }
 
+// ---- fuzz_registration seeds (layout: fuzz_registration_input.hpp)
+
+struct RegistrationSeed {
+  std::string header = std::string(ppcr_fuzz::kHeaderSize, '\0');  // all 0: library defaults
+  std::string points;
+  void set(int at, int value) { header[static_cast<std::size_t>(at)] = static_cast<char>(value); }
+  void cloud(int at, int unit, int offset, int count) {
+    set(at, unit);
+    set(at + 1, offset);
+    set(at + 2, count);
+  }
+  void point(double x, double y, double z) {  // in cloud units (i16 / 1024)
+    for (double v : {x, y, z}) put<std::int16_t>(&points, static_cast<std::int16_t>(v * 1024.0));
+  }
+  void raw_point(std::int16_t x, std::int16_t y, std::int16_t z) {
+    for (std::int16_t v : {x, y, z}) put<std::int16_t>(&points, v);
+  }
+  std::string bytes() const { return header + points; }
+};
+
+// Deterministic pseudo-random numbers in [-1, 1) (no <random>: the bytes must not depend on the
+// standard library).
+struct Lcg {
+  std::uint64_t state;
+  double next() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 4503599627370496.0 - 1.0;
+  }
+};
+
+// A box corner scene: three faces of a 2-unit cube (well constrained), `count` points.
+void box_points(RegistrationSeed* s, int count, std::uint64_t seed, double jitter) {
+  Lcg g{seed};
+  for (int i = 0; i < count; ++i) {
+    const double a = g.next(), b = g.next(), n = jitter * g.next();
+    switch (i % 3) {
+      case 0:
+        s->point(a, b, -1.0 + n);
+        break;
+      case 1:
+        s->point(-1.0 + n, a, b);
+        break;
+      default:
+        s->point(a, -1.0 + n, b);
+    }
+  }
+}
+
+bool registration_seeds(const std::filesystem::path& dir) {
+  namespace f = ppcr_fuzz;
+  bool ok = true;
+  int index = 0;
+  auto save_seed = [&](const char* name, const RegistrationSeed& s) {
+    ok &= save(dir / (std::to_string(index++) + "_" + name + ".bin"), s.bytes());
+  };
+  {  // defaults, target = source moved by a small pose
+    RegistrationSeed s;
+    s.set(f::kFlags0, 64);
+    s.cloud(f::kSourceCode, 0, 0, 48);
+    s.cloud(f::kTargetCode, 0, 0, 0);
+    const int pose[6] = {3, -2, 4, 5, -3, 2};
+    for (int i = 0; i < 6; ++i) s.set(f::kTruePose + i, pose[i]);
+    box_points(&s, 48, 1, 0.0);
+    save_seed("box_defaults", s);
+    s.set(f::kFlags0, 64 | 1);  // plane model
+    save_seed("box_plane", s);
+    s.set(f::kFlags0, 64 | 2 | 8 | 16);  // Gaussian, fixed scale 0.25, two threads
+    s.set(f::kScale, -2);
+    save_seed("box_gaussian_fixed", s);
+    s.set(f::kFlags0, 64 | 4);  // raw scale
+    s.set(f::kScale, 0);
+    save_seed("box_raw", s);
+  }
+  {  // independent samples of the box in source and target, an initial guess, k = 1
+    RegistrationSeed s;
+    s.set(f::kMaxNeighbours, 248);  // k = 32 << (248 - 240) % 6 = 128
+    s.cloud(f::kSourceCode, 0, 0, 40);
+    s.cloud(f::kTargetCode, 0, 0, 60);
+    const int pose[6] = {1, 0, -1, 2, 2, -2};
+    for (int i = 0; i < 6; ++i) s.set(f::kInitialPose + i, pose[i]);
+    box_points(&s, 40, 2, 0.01);
+    box_points(&s, 60, 3, 0.01);
+    save_seed("box_independent_k128", s);
+  }
+  {  // a plane (z = 0), both models; a line; all points identical
+    RegistrationSeed s;
+    s.set(f::kFlags0, 64 | 1);
+    s.cloud(f::kSourceCode, 0, 0, 40);
+    s.cloud(f::kTargetCode, 0, 0, 0);
+    s.set(f::kTruePose + 3, 4);
+    Lcg g{4};
+    for (int i = 0; i < 40; ++i) s.point(g.next(), g.next(), 0.0);
+    save_seed("plane_plane_model", s);
+    s.set(f::kFlags0, 64);
+    save_seed("plane_point_model", s);
+    RegistrationSeed line = s;
+    line.points.clear();
+    for (int i = 0; i < 40; ++i) line.point(g.next(), 0.0, 0.0);
+    save_seed("line", line);
+    RegistrationSeed same = s;
+    same.points.clear();
+    for (int i = 0; i < 40; ++i) same.point(0.5, 0.25, -0.125);
+    save_seed("identical_points", same);
+  }
+  {  // georeferenced: both clouds 1e6 units away (independent target with the same offset)
+    RegistrationSeed s;
+    s.cloud(f::kSourceCode, 0, 1, 40);
+    s.cloud(f::kTargetCode, 0, 1, 40);
+    box_points(&s, 40, 5, 0.0);
+    box_points(&s, 40, 5, 0.0);
+    save_seed("far_1e6", s);
+    s.cloud(f::kTargetCode, 0, 0, 40);  // only the source far away: no correspondence
+    save_seed("far_source_only", s);
+  }
+  {  // millimetres: unit 2^10, radius 2^10, raw and EM
+    RegistrationSeed s;
+    s.set(f::kFlags0, 64);
+    s.set(f::kRadius, 10);
+    s.cloud(f::kSourceCode, 30, 0, 48);
+    s.cloud(f::kTargetCode, 30, 0, 0);
+    s.set(f::kTruePose, 3);
+    box_points(&s, 48, 6, 0.0);
+    save_seed("box_mm_em", s);
+    s.set(f::kFlags0, 64 | 4);
+    save_seed("box_mm_raw", s);
+  }
+  {  // non-finite and huge coordinates mixed in
+    RegistrationSeed s;
+    s.set(f::kFlags0, 64);
+    s.cloud(f::kSourceCode, 0, 0, 24);
+    s.cloud(f::kTargetCode, 0, 0, 4);
+    box_points(&s, 16, 7, 0.0);
+    for (std::int16_t code = -32768; code <= -32761; ++code) s.raw_point(code, 0, 1024);
+    for (std::int16_t code = -32768; code <= -32765; ++code) s.raw_point(0, code, 0);
+    save_seed("non_finite_mixed", s);
+  }
+  {  // extreme parameters: tiny and huge radius and dof, many neighbours, voxel filters
+    RegistrationSeed s;
+    s.set(f::kFlags0, 64);
+    s.cloud(f::kSourceCode, 0, 0, 32);
+    s.cloud(f::kTargetCode, 0, 0, 0);
+    box_points(&s, 32, 8, 0.0);
+    s.set(f::kRadius, -128);
+    s.set(f::kRadius + 1, 0);  // 1e-300
+    save_seed("radius_1e-300", s);
+    s.set(f::kRadius + 1, 1);  // 1e300
+    save_seed("radius_1e300", s);
+    s.set(f::kRadius, 0);
+    s.set(f::kRadius + 1, 0);
+    s.set(f::kDof, -128);  // dof 5e-300, then 5e300
+    save_seed("dof_tiny", s);
+    s.set(f::kDof + 1, 1);
+    save_seed("dof_huge", s);
+    s.set(f::kDof, 0);
+    s.set(f::kDof + 1, 0);
+    s.set(f::kMaxNeighbours, 245);  // 1024
+    s.set(f::kFlags1, 16 | 32);     // voxel leaves 2^-3
+    s.set(f::kSourceVoxel, -3);
+    s.set(f::kTargetVoxel, -3);
+    save_seed("k1024_voxel", s);
+  }
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -106,7 +272,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::filesystem::path out = argv[1];
-  for (const char* sub : {"ply", "pcd", "xyz", "transform"}) {
+  for (const char* sub : {"ply", "pcd", "xyz", "transform", "registration"}) {
     std::filesystem::create_directories(out / sub);
   }
   bool ok = true;
@@ -142,6 +308,8 @@ int main(int argc, char** argv) {
   // Transforms: 16 numbers, 12 numbers with comments.
   ok &= save(out / "transform" / "t16.txt", "1 0 0 1.5\n0 1 0 -2\n0 0 1 0.25\n0 0 0 1\n");
   ok &= save(out / "transform" / "t12.txt", "# gt\n0.6 -0.8 0 1\n0.8 0.6 0 2 # row\n0 0 1 3\n");
+  // Registration: small valid problems of each kind (see registration_seeds()).
+  ok &= registration_seeds(out / "registration");
   if (!ok) {
     std::fprintf(stderr, "could not write the seed corpus under %s\n", out.string().c_str());
     return 1;

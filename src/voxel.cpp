@@ -25,10 +25,16 @@ Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* o
   out->clear();
   if (finite == 0) return Status::Ok();
 
-  // 21 bits per axis pack a cell index into one 64-bit key.
+  // 21 bits per axis pack a cell index into one 64-bit key. The cell index of a point is
+  // floor((p - lo) * inv_leaf), rounded exactly as below; every rounding step is monotone, so the
+  // index of hi bounds every index, and checking it keeps each index within its 21-bit field.
+  // (Checking floor((hi - lo) / leaf) instead could accept an index of 2^21, which would spill
+  // into the next field and merge unrelated voxels.) A leaf so small that 1 / leaf overflows
+  // gives cells of +inf or NaN (0 * inf), refused too.
   constexpr double kMaxCells = static_cast<double>(1 << 21);
-  const Eigen::Vector3d cells = ((hi - lo) / leaf_size).array().floor() + 1.0;
-  if (cells.maxCoeff() > kMaxCells) {
+  const double inv_leaf = 1.0 / leaf_size;
+  const Eigen::Vector3d cells = ((hi - lo) * inv_leaf).array().floor() + 1.0;
+  if (!(cells.array() <= kMaxCells).all()) {
     return Status(StatusCode::kInvalidArgument, "voxel leaf size " + std::to_string(leaf_size) +
                                                     " is too small for a cloud " + "spanning " +
                                                     std::to_string((hi - lo).maxCoeff()) +
@@ -42,7 +48,6 @@ Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* o
   std::vector<Cell> sums;
   std::unordered_map<std::uint64_t, std::size_t> index_of_key;
   index_of_key.reserve(finite / 4 + 16);
-  const double inv_leaf = 1.0 / leaf_size;
   for (const Eigen::Vector3d& p : cloud) {
     if (!p.allFinite()) continue;
     const Eigen::Vector3d q = ((p - lo) * inv_leaf).array().floor();

@@ -8,8 +8,16 @@
 //     c = (nu + d) / ((nu + z_min) * sum_m q_m^e).
 //  Gaussian: u_k = exp(-(z_k - z_min) / 2), c = 1 / sum_m u_m.
 // The closest neighbour has p_k / p_max = 1, so the sum is >= 1: this is the log-sum-exp trick
-// in ratio form, and the weights never all underflow. Callers accumulate with the unnormalised
+// in ratio form, and the posteriors never all underflow. Callers accumulate with the unnormalised
 // u_k and multiply the point's sums by c once.
+//
+// Overflow: a neighbour whose z_k is +inf while z_min is finite gets q_k = 0 (Gaussian: u_k = 0),
+// so weight 0. When every z_k of a point overflows (z_min = +inf, e.g. r = 1e300 and s = 1e-5),
+// the ratios above would be inf / inf; one test of z_min per point sends such a point to the
+// *_overflow kernels (weights.cpp), which form the ratios from the r_k instead (the factor 1 / s^2
+// cancels): Student-t q_k = r_min / r_k and c = 0, since every weight is below (nu + d) / DBL_MAX;
+// Gaussian u_k = exp(-(r_k - r_min) / (2 s^2)), c = 1 / sum, so its posteriors still sum to 1.
+// The per-pair work of finite points is unchanged.
 //
 // The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
 // integer or half-integer e up to 32 by squaring, otherwise std::pow.
@@ -17,6 +25,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "ppcr/weights.hpp"
 
@@ -56,6 +65,13 @@ struct PowerGeneral {
   double operator()(double q) const { return std::pow(q, e); }
 };
 
+/// The E-steps of a point whose every z_k = r_k * inv_scale_sq overflows to +inf (weights.cpp;
+/// see the file comment). Write u[0..n), return c and the log-sum-exp.
+PointWeights student_t_weights_overflow(double dof, double exponent, double inv_scale_sq,
+                                        const double* r_sq, std::size_t n, double* u);
+PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, std::size_t n,
+                                       double* u);
+
 /// Student-t E-step of n >= 1 squared errors: writes u[0..n), returns c and the log-sum-exp.
 template <class Power>
 inline PointWeights student_t_weights(const Power& power, double dof, double exponent,
@@ -65,6 +81,9 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   for (std::size_t k = 1; k < n; ++k) {
     const double z = r_sq[k] * inv_scale_sq;
     z_min = z < z_min ? z : z_min;
+  }
+  if (z_min > std::numeric_limits<double>::max()) {  // every z_k is +inf
+    return student_t_weights_overflow(dof, exponent, inv_scale_sq, r_sq, n, u);
   }
   const double nu_z_min = dof + z_min;
   double sum = 0.0;
@@ -87,6 +106,9 @@ inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, st
   for (std::size_t k = 1; k < n; ++k) {
     const double z = r_sq[k] * inv_scale_sq;
     z_min = z < z_min ? z : z_min;
+  }
+  if (z_min > std::numeric_limits<double>::max()) {  // every z_k is +inf
+    return gaussian_weights_overflow(inv_scale_sq, r_sq, n, u);
   }
   double sum = 0.0;
   for (std::size_t k = 0; k < n; ++k) {

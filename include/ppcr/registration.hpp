@@ -67,8 +67,9 @@ struct IterationRecord {
 struct RegistrationResult {
   Status status;  // not ok: input refused or a failure (see stop_reason)
   StopReason stop_reason = StopReason::kNone;
-  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // maps source into target
-  int iterations = 0;                                                 // outer iterations run
+  /// Maps source into target. Refused input: the initial guess (identity if it is not finite).
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  int iterations = 0;             // outer iterations run
   int lm_iterations = 0;          // LM steps over all outer iterations (accepted + rejected)
   int lm_successful_steps = 0;    // accepted LM steps over all outer iterations
   double initial_cost = 0.0;      // first inner problem's initial cost
@@ -78,14 +79,18 @@ struct RegistrationResult {
   std::size_t target_points = 0;  // target points (after filtering)
   std::size_t matched_source_points = 0;  // source points with a neighbour, last iteration
   std::size_t correspondences = 0;        // associated pairs, last iteration
-  std::size_t source_non_finite = 0;      // non-finite points dropped from the source
-  std::size_t target_non_finite = 0;      // non-finite points dropped from the target
+  // Points dropped as non-finite, or so far from the cloud's median that their squared distance
+  // overflows (|p - median| > ~1e154).
+  std::size_t source_non_finite = 0;
+  std::size_t target_non_finite = 0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
-  /// left about the target's centroid, in the target's axes.
+  /// left about the target's per-axis median point, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues
-  /// of the surface-normal information, rotations scaled by the source's RMS radius, below 1e-6
-  /// of the largest): 3 for a single plane, 1 for a cylinder, 0 for well-constrained geometry.
+  /// of the surface-normal information, rotations scaled by the source's RMS radius, below 1e-2
+  /// of the largest): 3 for a single plane (the two in-plane translations and the
+  /// rotation about the normal), 2 for a cylinder (translation along and rotation about its
+  /// axis), 3 for a sphere (rotations), 0 for well-constrained geometry.
   /// Point model: -1 (not assessed: point-to-point information is never singular).
   int degenerate_directions = -1;
   std::vector<IterationRecord> history;

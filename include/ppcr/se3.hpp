@@ -22,13 +22,15 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& w);
 /// Rodrigues: rotation by angle |w| about w / |w|.
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w);
 
-/// Inverse of exp_so3 on rotations of angle in [0, pi].
+/// Inverse of exp_so3 on rotations of angle in [0, pi]. At angle pi exactly, where +-pi n are
+/// both logs, one of the two is returned.
 Eigen::Vector3d log_so3(const Eigen::Matrix3d& R);
 
 /// exp of a twist (omega, v).
 Eigen::Isometry3d exp(const Vector6d& xi);
 
-/// log of a rigid transform, inverse of exp for rotation angles below pi.
+/// log of a rigid transform, inverse of exp for rotation angles below pi; at pi it returns the
+/// twist built on log_so3's choice of axis sign, and exp of it reproduces T.
 Vector6d log(const Eigen::Isometry3d& T);
 
 /// Rotation angle of R in radians, in [0, pi] (robust near 0 and pi).

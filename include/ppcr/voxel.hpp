@@ -10,7 +10,7 @@ namespace ppcr {
 /// centroid. Voxels are aligned to the cloud's minimum corner; the output lists voxels in the order
 /// their first point appears in the input, so it is deterministic. Non-finite input points are
 /// skipped. Fails (kInvalidArgument) when leaf_size is not finite and positive, or so small that
-/// the grid would exceed 2^21 cells along an axis.
+/// the grid would exceed 2^21 cells along an axis (cell indices are floor((p - min) * (1 / leaf))).
 Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* out);
 
 }  // namespace ppcr

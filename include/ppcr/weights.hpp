@@ -9,7 +9,11 @@
 //               precision)
 //   Gaussian:   pi_k = softmax_k(-z_k / 2),  w_k = pi_k            (eq. 2; the limit nu -> inf)
 // The log-sum-exp keeps the closest neighbour's posterior at least 1/n however large z is, so
-// weights neither overflow nor all underflow to zero.
+// posteriors neither overflow nor all underflow to zero, and weights stay finite. If z_k overflows
+// to +inf (a tiny s), that neighbour's weight is 0 when another z of the point is finite; when
+// every z_k of the point overflows, the Student-t weights are all 0 (each is below
+// (nu + d) / DBL_MAX) and the Gaussian weights are the posteriors of the exact z_k (formed from
+// the r_k), so they still sum to 1.
 #pragma once
 
 #include <cstddef>

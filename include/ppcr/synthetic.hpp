@@ -1,0 +1,126 @@
+// synthetic.hpp - ppcr_synthetic: procedural scenes scanned by a simulated spinning lidar, with
+// an exact ground-truth transform between the two scans.
+//
+// A scene (an indoor room or an outdoor street) is a union of analytic primitives: rectangles,
+// oriented boxes, spheres and capped cylinders, laid out procedurally from a seed. It is scanned
+// from two sensor poses by casting one ray per (beam, azimuth step): a ray returns the first
+// surface it meets within [min_range, max_range]; rays that meet nothing return nothing. So the
+// two scans overlap partially, occlude differently, and have the range-dependent density and the
+// ring pattern of a real lidar. Gaussian noise is added to each range (along the ray), and
+// uniform outliers can be added.
+//
+// Determinism: the output depends only on the options (never on time, threads or global
+// state). Random numbers come from std::mt19937_64 (fully specified by the C++ standard) turned
+// into doubles and normal deviates by our own code (53-bit uniforms, Box-Muller), not by the
+// implementation-defined std:: distributions, so a seed gives the same clouds with any standard
+// library (up to the last bits of the libm functions sin, cos, log, sqrt).
+//
+// Like the core, nothing here throws across the API or prints: functions return a Status whose
+// message names the option at fault and its value.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+
+#include "ppcr/status.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace synthetic {
+
+enum class SceneKind {
+  /// A closed 12 m x 9 m x 3 m room: floor, ceiling and four walls, with boxes (furniture),
+  /// spheres (on the floor and hanging), two floor-to-ceiling columns, a barrel lying on the
+  /// floor and a pipe under the ceiling. The middle of the room is kept free for the sensors.
+  kRoom,
+  /// A 160 m street along the scene's x axis: ground plane, building blocks on both sides with
+  /// gaps between them and facade relief (pilasters, ledges), parked cars (two boxes each), poles
+  /// with lamps, and trees (sphere crowns on cylinder trunks). The sensors move along the road.
+  kStreet,
+};
+
+/// "room" or "street".
+const char* to_string(SceneKind kind);
+
+/// Largest distance between the two sensor positions a scene accepts (ScanOptions::translation_m),
+/// in metres: 3 for the room, 30 for the street (the sensors must stay in the free space).
+double max_translation_m(SceneKind kind);
+
+/// A spinning multi-beam lidar. Sensor frame: origin at the optical centre, x forward, y left,
+/// z up (the spin axis). Beam b of B has elevation fov_down + b (fov_up - fov_down) / (B - 1)
+/// (the mean of the two when B = 1); azimuth step k of K is at 360 k / K degrees.
+/// The defaults resemble a 32-beam automotive lidar: 32 x 1024 = 32768 rays per scan.
+struct SensorModel {
+  int beams = 32;               // vertical channels, [1, 1024]
+  int horizontal_steps = 1024;  // azimuth samples per revolution, [1, 36000] (0.35 deg step)
+  double fov_up_deg = 15.0;     // elevation of the highest beam, degrees, in [-90, 90]
+  double fov_down_deg = -25.0;  // elevation of the lowest beam, degrees, < fov_up_deg
+  double min_range = 0.3;       // metres, >= 0: closer hits are dropped (not returned)
+  double max_range = 80.0;      // metres, > min_range, <= 10000: farther hits are not returned
+};
+
+struct ScanOptions {
+  SceneKind scene = SceneKind::kRoom;
+  /// Seeds everything: the scene layout, the sensor poses, the noise and the outliers, each from
+  /// its own stream (so changing noise_sigma does not move the scene or the poses). The layout
+  /// depends only on (scene, seed), so sample_surface() with the same pair sees the same scene.
+  std::uint64_t seed = 1;
+  SensorModel sensor;  // the same sensor takes both scans
+  /// Standard deviation of the zero-mean Gaussian noise added to each measured range, metres
+  /// (the point moves along its ray), >= 0.
+  double noise_sigma = 0.0;
+  /// Fraction of each output cloud made of outliers, in [0, 0.95]. Outliers are ADDED to the
+  /// returns (none is replaced): round(n f / (1 - f)) points for n returns, drawn uniformly in
+  /// the intersection of the scene's bounding box with the cube of half side max_range around
+  /// the sensor, and appended after the returns (see ScanPair::source_returns).
+  double outlier_fraction = 0.0;
+  /// Angle of the rotation between the two sensor poses, degrees, in [0, 180]. Its axis is drawn
+  /// from the seed, tilted from the vertical by up to 10 degrees (so all three rotation
+  /// components are non-zero in general); its sign is drawn too.
+  double rotation_deg = 15.0;
+  /// Distance between the two sensor positions, metres, in [0, max_translation_m(scene)]. The
+  /// direction is drawn from the seed: any horizontal azimuth in the room, along the road
+  /// (within 5 degrees) in the street; elevation within +-3 degrees. The two positions are
+  /// placed symmetrically about a seeded point of the scene's free space.
+  double translation_m = 1.5;
+};
+
+struct ScanPair {
+  /// The scan from the source pose, in the source sensor's frame. Its first source_returns
+  /// points are surface returns (in scan order: azimuth-major, then beam), the rest outliers.
+  PointCloud source;
+  /// The scan from the target pose, in the target sensor's frame (same layout).
+  PointCloud target;
+  /// Exact ground truth: maps source points (source sensor frame) into the target sensor frame,
+  /// p_target = T_target_source * p_source. Its rotation angle is rotation_deg and its
+  /// translation norm translation_m. Registering source onto target from identity must recover it.
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  /// Sensor poses in the scene (world) frame, z up; T_world_source = T_world_target *
+  /// T_target_source.
+  Eigen::Isometry3d T_world_source = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_world_target = Eigen::Isometry3d::Identity();
+  std::size_t source_returns = 0;  // surface returns at the front of source
+  std::size_t target_returns = 0;  // surface returns at the front of target
+};
+
+/// Builds the scene of options.scene and options.seed and scans it from the two sensor poses.
+/// Fails with kInvalidArgument (message naming the option, e.g. "ScanOptions.noise_sigma = -1
+/// must be ...") for an option out of range, or when the clouds would not fit in memory.
+Status make_scan_pair(const ScanOptions& options, ScanPair* out);
+
+struct SurfaceSampleOptions {
+  SceneKind scene = SceneKind::kRoom;
+  std::uint64_t seed = 1;     // the scene layout is that of make_scan_pair with the same seed
+  std::size_t count = 50000;  // points to return, [1, 100000000]
+};
+
+/// Samples options.count points uniformly (by area) on the surfaces of the scene, noise free, in
+/// the scene (world) frame, without sensor: no occlusion or range effect. Points inside or on
+/// another solid primitive (e.g. the floor under a box) are discarded and redrawn. Deterministic.
+/// Fails with kInvalidArgument for a count out of range.
+Status sample_surface(const SurfaceSampleOptions& options, PointCloud* out);
+
+}  // namespace synthetic
+}  // namespace ppcr

@@ -1,0 +1,267 @@
+// Tests of detail::LMSolver on problems with fixed associations, against known transforms and the
+// closed-form least-squares rigid fit (Eigen::umeyama, Kabsch) where all weights are 1.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "association.hpp"
+#include "core_test_util.hpp"
+#include "lm_solver.hpp"
+#include "ppcr/lm.hpp"
+
+using core_test::Rng;
+using ppcr::LMOptions;
+using ppcr::LMSummary;
+using ppcr::LMTermination;
+using ppcr::PointCloud;
+using ppcr::detail::AssociationTable;
+using ppcr::detail::LMProblem;
+using ppcr::detail::LMSolver;
+
+namespace {
+
+// Source j associated with target j only (k = 1).
+AssociationTable identity_table(std::size_t n) {
+  AssociationTable t;
+  t.resize(n, 1);
+  for (std::size_t j = 0; j < n; ++j) {
+    t.index[j] = static_cast<std::uint32_t>(j);
+    t.count[j] = 1;
+  }
+  t.pairs = t.matched = n;
+  return t;
+}
+
+double extent(const PointCloud& cloud) {
+  double e = 0.0;
+  for (const Eigen::Vector3d& p : cloud) e = std::max(e, p.norm());
+  return e;
+}
+
+LMProblem make_problem(const PointCloud& source, const PointCloud& target,
+                       const AssociationTable& assoc, ppcr::WeightModel model) {
+  LMProblem pb;
+  pb.source = &source;
+  pb.target = &target;
+  pb.assoc = &assoc;
+  pb.weights.model = model;
+  pb.weights.dof = 5.0;
+  pb.weights.inv_scale_sq = 1.0;
+  pb.num_threads = 1;
+  pb.step_reference = 1e-3;  // step tolerance 1e-10 absolute: it does not limit 1e-9 accuracy
+  pb.source_extent = extent(source);
+  return pb;
+}
+
+bool is_convergence(LMTermination t) {
+  return t == LMTermination::kFunctionTolerance || t == LMTermination::kGradientTolerance ||
+         t == LMTermination::kStepTolerance;
+}
+
+void check_summary_consistent(const LMSummary& s, const LMOptions& o) {
+  CHECK(s.successful_steps >= 0);
+  CHECK(s.unsuccessful_steps >= 0);
+  CHECK(s.iterations == s.successful_steps + s.unsuccessful_steps);
+  CHECK(s.iterations <= o.max_iterations);
+  CHECK(std::isfinite(s.initial_cost));
+  CHECK(std::isfinite(s.final_cost));
+}
+
+double pose_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+TEST_CASE("k = 1 exact correspondences: LM recovers the transform to 1e-9", "[lm]") {
+  Rng rng(61);
+  const PointCloud source = core_test::uniform_cloud(rng, 500, -1.0, 1.0);
+  const AssociationTable assoc = identity_table(source.size());
+  for (ppcr::WeightModel model : {ppcr::WeightModel::kStudentT, ppcr::WeightModel::kGaussian}) {
+    for (double deg : {0.5, 5.0, 12.0, 20.0}) {
+      const Eigen::Isometry3d T_true = core_test::make_pose(
+          core_test::random_unit_vector(rng), core_test::deg2rad(deg),
+          core_test::uniform(rng, 0.0, 0.3) * core_test::random_unit_vector(rng));
+      const PointCloud target = core_test::transformed(source, T_true);
+      const LMProblem pb = make_problem(source, target, assoc, model);
+      LMSolver solver;
+      solver.resize(source.size(), 1);
+      LMOptions options;
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      const LMSummary s = solver.solve(options, pb, &T);
+      INFO("model " << static_cast<int>(model) << " angle " << deg << " termination "
+                    << ppcr::to_string(s.termination) << " iterations " << s.iterations << " error "
+                    << pose_error(T, T_true));
+      check_summary_consistent(s, options);
+      CHECK(pose_error(T, T_true) < 1e-9);
+      CHECK(s.final_cost <= s.initial_cost);
+      CHECK(s.initial_cost > 0.0);
+      CHECK(s.final_cost < 1e-16 * s.initial_cost);
+      CHECK(is_convergence(s.termination));
+      CHECK(s.successful_steps >= 1);
+      // The solver's last evaluation is at the final pose.
+      CHECK(solver.last().cost == s.final_cost);
+    }
+  }
+}
+
+TEST_CASE("k = 1, noisy, Gaussian (all weights 1): LM equals the closed-form Kabsch fit", "[lm]") {
+  Rng rng(62);
+  const PointCloud source = core_test::uniform_cloud(rng, 400, -1.0, 1.0);
+  const AssociationTable assoc = identity_table(source.size());
+  const Eigen::Isometry3d T_true = core_test::make_pose(
+      Eigen::Vector3d(0.2, 0.9, -0.4), core_test::deg2rad(15.0), Eigen::Vector3d(0.2, -0.1, 0.05));
+  PointCloud target = core_test::transformed(source, T_true);
+  for (Eigen::Vector3d& y : target) {
+    y += Eigen::Vector3d(core_test::gaussian(rng, 0.05), core_test::gaussian(rng, 0.05),
+                         core_test::gaussian(rng, 0.05));
+  }
+  // Closed form (Umeyama without scaling): the minimiser of sum |y - T x|^2.
+  Eigen::Matrix<double, 3, Eigen::Dynamic> X(3, source.size()), Y(3, source.size());
+  for (std::size_t j = 0; j < source.size(); ++j) {
+    X.col(static_cast<Eigen::Index>(j)) = source[j];
+    Y.col(static_cast<Eigen::Index>(j)) = target[j];
+  }
+  Eigen::Isometry3d T_ls(Eigen::umeyama(X, Y, false));
+  const LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kGaussian);
+  LMSolver solver;
+  solver.resize(source.size(), 1);
+  LMOptions options;
+  options.function_tolerance = 1e-15;  // run to the optimum
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const LMSummary s = solver.solve(options, pb, &T);
+  INFO("termination " << ppcr::to_string(s.termination) << " error " << pose_error(T, T_ls));
+  check_summary_consistent(s, options);
+  CHECK(pose_error(T, T_ls) < 1e-9);
+  // The cost is 1/2 sum |y - T x|^2 with unit weights.
+  double cost = 0.0;
+  for (std::size_t j = 0; j < source.size(); ++j)
+    cost += 0.5 * (target[j] - T_ls * source[j]).squaredNorm();
+  CHECK(std::abs(s.final_cost - cost) < 1e-10 * cost);
+
+  SECTION("started at the optimum, LM terminates without moving") {
+    Eigen::Isometry3d T0 = T_ls;
+    const LMSummary s0 = solver.solve(options, pb, &T0);
+    INFO("termination " << ppcr::to_string(s0.termination));
+    check_summary_consistent(s0, options);
+    CHECK(is_convergence(s0.termination));
+    CHECK(s0.successful_steps == 0);
+    CHECK(pose_error(T0, T_ls) < 1e-12);
+    CHECK(s0.final_cost == s0.initial_cost);
+  }
+}
+
+TEST_CASE("At an exact optimum (zero cost, zero gradient) LM stops at once", "[lm]") {
+  Rng rng(63);
+  const PointCloud source = core_test::uniform_cloud(rng, 200, -1.0, 1.0);
+  const AssociationTable assoc = identity_table(source.size());
+  const Eigen::Isometry3d T_true =
+      core_test::make_pose(Eigen::Vector3d(1, 0, 0), 0.3, Eigen::Vector3d(0.1, 0.2, 0.3));
+  // target[j] = T_true x_j computed exactly as the solver computes R x + t: zero residuals.
+  PointCloud target;
+  for (const Eigen::Vector3d& x : source)
+    target.push_back(T_true.linear() * x + T_true.translation());
+  const LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+  LMSolver solver;
+  solver.resize(source.size(), 1);
+  LMOptions options;
+  Eigen::Isometry3d T = T_true;
+  const LMSummary s = solver.solve(options, pb, &T);
+  check_summary_consistent(s, options);
+  CHECK(s.initial_cost == 0.0);
+  CHECK(s.final_cost == 0.0);
+  CHECK(s.iterations == 0);
+  CHECK(is_convergence(s.termination));
+  CHECK(T.matrix() == T_true.matrix());
+}
+
+TEST_CASE("No associations: kNoResiduals, pose untouched", "[lm]") {
+  Rng rng(64);
+  const PointCloud source = core_test::uniform_cloud(rng, 100, -1.0, 1.0);
+  const PointCloud target = core_test::uniform_cloud(rng, 100, -1.0, 1.0);
+  AssociationTable assoc;
+  assoc.resize(source.size(), 4);  // every count is zero
+  const LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+  LMSolver solver;
+  solver.resize(source.size(), 4);
+  LMOptions options;
+  const Eigen::Isometry3d T0 =
+      core_test::make_pose(Eigen::Vector3d(0, 1, 0), 0.1, Eigen::Vector3d(1, 2, 3));
+  Eigen::Isometry3d T = T0;
+  const LMSummary s = solver.solve(options, pb, &T);
+  CHECK(s.termination == LMTermination::kNoResiduals);
+  CHECK(s.iterations == 0);
+  CHECK(s.successful_steps == 0);
+  CHECK(s.unsuccessful_steps == 0);
+  CHECK(s.initial_cost == 0.0);
+  CHECK(s.final_cost == 0.0);
+  CHECK(T.matrix() == T0.matrix());
+}
+
+TEST_CASE("max_iterations is respected; max_iterations = 1 gives exactly one step", "[lm]") {
+  Rng rng(65);
+  const PointCloud source = core_test::uniform_cloud(rng, 300, -1.0, 1.0);
+  const AssociationTable assoc = identity_table(source.size());
+  const Eigen::Isometry3d T_true = core_test::make_pose(
+      Eigen::Vector3d(1, 1, 1), core_test::deg2rad(20.0), Eigen::Vector3d(0.3, 0.0, -0.2));
+  const PointCloud target = core_test::transformed(source, T_true);
+  const LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+  LMSolver solver;
+  solver.resize(source.size(), 1);
+  for (int max_it : {1, 2, 3, 5}) {
+    LMOptions options;
+    options.max_iterations = max_it;
+    options.function_tolerance = 0.0;
+    options.gradient_tolerance = 0.0;
+    options.step_tolerance = 0.0;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const LMSummary s = solver.solve(options, pb, &T);
+    INFO("max_iterations " << max_it << " termination " << ppcr::to_string(s.termination));
+    check_summary_consistent(s, options);
+    CHECK(s.iterations == max_it);
+    CHECK(s.termination == LMTermination::kMaxIterations);
+    if (max_it == 1) {
+      // One Gauss-Newton-like step from 20 degrees lowers the cost.
+      CHECK(s.successful_steps == 1);
+      CHECK(s.final_cost < s.initial_cost);
+    }
+  }
+}
+
+TEST_CASE("LM with k > 1 and IRLS weights: consistent summary, identical with 1 and 2 threads",
+          "[lm]") {
+  Rng rng(66);
+  const PointCloud target = core_test::uniform_cloud(rng, 6000, -1.0, 1.0);
+  const Eigen::Isometry3d T_true = core_test::make_pose(
+      Eigen::Vector3d(0, 0, 1), core_test::deg2rad(3.0), Eigen::Vector3d(0.01, 0.02, 0.0));
+  PointCloud source = core_test::transformed(target, T_true.inverse());
+  source.resize(3000);
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  AssociationTable assoc;
+  assoc.resize(source.size(), 8);
+  ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
+  REQUIRE(assoc.matched == source.size());
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = T1;
+  LMSummary s1, s2;
+  for (int threads : {1, 2}) {
+    LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+    pb.weights.inv_scale_sq = 1.0 / (0.05 * 0.05);
+    pb.num_threads = threads;
+    pb.step_reference = 0.2;
+    LMSolver solver;
+    solver.resize(source.size(), 8);
+    LMOptions options;
+    (threads == 1 ? s1 : s2) = solver.solve(options, pb, threads == 1 ? &T1 : &T2);
+    check_summary_consistent(threads == 1 ? s1 : s2, options);
+  }
+  CHECK(T1.matrix() == T2.matrix());
+  CHECK(s1.iterations == s2.iterations);
+  CHECK(s1.final_cost == s2.final_cost);
+  CHECK(s1.successful_steps >= 1);
+  CHECK(s1.termination != LMTermination::kNumericalFailure);
+  // The pose moved towards the truth.
+  CHECK(pose_error(T1, T_true) < pose_error(Eigen::Isometry3d::Identity(), T_true));
+}

@@ -1,0 +1,516 @@
+// Tests of detail::NormalEquations::evaluate against a naive per-pair reference (explicit 3x6
+// Jacobians, sum of w J^T J over every pair), against Jacobians and gradients obtained by central
+// differences of the error through ppcr::se3::exp (so the analytic form is not trusted), and for
+// independence of the thread count.
+#include <catch2/catch.hpp>
+#include <vector>
+
+#include "association.hpp"
+#include "core_test_util.hpp"
+#include "kdtree.hpp"
+#include "normal_equations.hpp"
+#include "ppcr/se3.hpp"
+#include "ppcr/weights.hpp"
+
+using core_test::Rng;
+using ppcr::PointCloud;
+using ppcr::detail::AssociationTable;
+using ppcr::detail::Evaluation;
+using ppcr::detail::Matrix6d;
+using ppcr::detail::NormalEquations;
+using ppcr::detail::Vector6d;
+using ppcr::detail::WeightParams;
+using Jacobian = Eigen::Matrix<double, 3, 6>;
+
+namespace {
+
+struct Problem {
+  PointCloud source, target;
+  AssociationTable assoc;
+  Eigen::Isometry3d T;
+};
+
+// A source near the target under T (noisy), associated by the real k-d tree at T.
+Problem make_problem(std::uint64_t seed, std::size_t n, int k, double radius) {
+  Rng rng(seed);
+  Problem pb;
+  pb.target = core_test::uniform_cloud(rng, n, -1.0, 1.0);
+  pb.T = core_test::make_pose(Eigen::Vector3d(0.3, 1.0, -0.2), core_test::deg2rad(25.0),
+                              Eigen::Vector3d(0.4, -0.3, 0.2));
+  const Eigen::Isometry3d T_inv = pb.T.inverse();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d noisy = pb.target[i] + Eigen::Vector3d(core_test::gaussian(rng, 0.02),
+                                                                 core_test::gaussian(rng, 0.02),
+                                                                 core_test::gaussian(rng, 0.02));
+    pb.source.push_back(T_inv * noisy);
+  }
+  // Some source points far from everything: no association.
+  for (std::size_t i = 0; i < n / 20; ++i) pb.source[i * 20] = T_inv * Eigen::Vector3d(5, 5, 5);
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(pb.target).ok());
+  pb.assoc.resize(pb.source.size(), k);
+  ppcr::detail::associate(tree, pb.source, pb.T, radius * radius, 1, &pb.assoc);
+  return pb;
+}
+
+// J of e = y - p at delta = 0, written out: [ [p]_x | -I ].
+Jacobian analytic_jacobian(const Eigen::Vector3d& p) {
+  Jacobian J;
+  J << 0.0, -p.z(), p.y(), -1, 0, 0,  //
+      p.z(), 0.0, -p.x(), 0, -1, 0,   //
+      -p.y(), p.x(), 0.0, 0, 0, -1;
+  return J;
+}
+
+// J of e(delta) = y - exp(delta) T x at delta = 0 by central differences (y drops out).
+Jacobian numeric_jacobian(const Eigen::Isometry3d& T, const Eigen::Vector3d& x) {
+  const double h = 1e-6;
+  Jacobian J;
+  for (int c = 0; c < 6; ++c) {
+    Vector6d d = Vector6d::Zero();
+    d(c) = h;
+    J.col(c) = -((ppcr::se3::exp(d) * T) * x - (ppcr::se3::exp(-d) * T) * x) / (2.0 * h);
+  }
+  return J;
+}
+
+struct Reference {
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  double cost = 0.0, cost_prev = 0.0, weight_sum = 0.0;
+  std::vector<double> w, r_sq;
+};
+
+// The naive reference: one 3x6 Jacobian and one 6x6 outer product per PAIR.
+Reference naive(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T,
+                const double* w_prev, bool numeric_J) {
+  const std::size_t k = static_cast<std::size_t>(pb.assoc.k);
+  Reference ref;
+  ref.w.assign(pb.source.size() * k, 0.0);
+  ref.r_sq.assign(pb.source.size() * k, 0.0);
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    const std::size_t count = pb.assoc.count[j];
+    if (count == 0) continue;
+    const Eigen::Vector3d p = T * pb.source[j];
+    for (std::size_t m = 0; m < count; ++m) {
+      ref.r_sq[j * k + m] = (pb.target[pb.assoc.index[j * k + m]] - p).squaredNorm();
+    }
+    ppcr::compute_weights(wp.model, wp.dof, wp.inv_scale_sq, &ref.r_sq[j * k], count,
+                          &ref.w[j * k]);
+    const Jacobian J = numeric_J ? numeric_jacobian(T, pb.source[j]) : analytic_jacobian(p);
+    for (std::size_t m = 0; m < count; ++m) {
+      const double w = ref.w[j * k + m];
+      const Eigen::Vector3d e = pb.target[pb.assoc.index[j * k + m]] - p;
+      ref.H += w * J.transpose() * J;
+      ref.g += w * J.transpose() * e;
+      ref.cost += 0.5 * w * e.squaredNorm();
+      ref.weight_sum += w;
+      if (w_prev != nullptr) ref.cost_prev += 0.5 * w_prev[j * k + m] * e.squaredNorm();
+    }
+  }
+  return ref;
+}
+
+// Omega of a target point (error_model.hpp): epsilon I + n n^T with a normal, I without.
+Eigen::Matrix3d omega(const Eigen::Vector3d& n, double epsilon) {
+  if (n.squaredNorm() == 0.0) return Eigen::Matrix3d::Identity();
+  return epsilon * Eigen::Matrix3d::Identity() + n * n.transpose();
+}
+
+// The naive plane-model reference: r = e^T Omega e, one 6x6 term w J^T Omega J per PAIR.
+Reference naive_plane(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T,
+                      const double* w_prev, const std::vector<Eigen::Vector3d>& normals,
+                      double epsilon) {
+  const std::size_t k = static_cast<std::size_t>(pb.assoc.k);
+  Reference ref;
+  ref.w.assign(pb.source.size() * k, 0.0);
+  ref.r_sq.assign(pb.source.size() * k, 0.0);
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    const std::size_t count = pb.assoc.count[j];
+    if (count == 0) continue;
+    const Eigen::Vector3d p = T * pb.source[j];
+    for (std::size_t m = 0; m < count; ++m) {
+      const std::uint32_t y = pb.assoc.index[j * k + m];
+      const Eigen::Vector3d e = pb.target[y] - p;
+      ref.r_sq[j * k + m] = e.dot(omega(normals[y], epsilon) * e);
+    }
+    ppcr::compute_weights(wp.model, wp.dof, wp.inv_scale_sq, &ref.r_sq[j * k], count,
+                          &ref.w[j * k]);
+    const Jacobian J = analytic_jacobian(p);
+    for (std::size_t m = 0; m < count; ++m) {
+      const std::uint32_t y = pb.assoc.index[j * k + m];
+      const double w = ref.w[j * k + m];
+      const Eigen::Vector3d e = pb.target[y] - p;
+      const Eigen::Matrix3d O = omega(normals[y], epsilon);
+      ref.H += w * J.transpose() * O * J;
+      ref.g += w * J.transpose() * O * e;
+      ref.cost += 0.5 * w * ref.r_sq[j * k + m];
+      ref.weight_sum += w;
+      if (w_prev != nullptr) ref.cost_prev += 0.5 * w_prev[j * k + m] * ref.r_sq[j * k + m];
+    }
+  }
+  return ref;
+}
+
+// Unit normals for most target points, none (zero) for every fifth.
+std::vector<Eigen::Vector3d> random_normals(std::size_t n, std::uint64_t seed) {
+  Rng rng(seed);
+  std::vector<Eigen::Vector3d> normals(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    normals[i] = i % 5 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
+  }
+  return normals;
+}
+
+struct Output {
+  Evaluation eval;
+  std::vector<double> w, r_sq;
+};
+
+Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T,
+           const double* w_prev, int threads, const ppcr::detail::PlaneModel* plane = nullptr) {
+  NormalEquations ne;
+  ne.resize(pb.source.size());
+  Output out;
+  const std::size_t slots = pb.source.size() * static_cast<std::size_t>(pb.assoc.k);
+  out.w.assign(slots, 0.0);
+  out.r_sq.assign(slots, 0.0);
+  ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w_prev, out.w.data(), out.r_sq.data(), threads,
+              &out.eval, plane);
+  return out;
+}
+
+double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+}
+
+std::vector<WeightParams> weight_params() {
+  std::vector<WeightParams> out(4);
+  out[0] = {ppcr::WeightModel::kStudentT, 5.0, 1.0};
+  out[1] = {ppcr::WeightModel::kStudentT, 3.0, 1.0 / (0.05 * 0.05)};
+  out[2] = {ppcr::WeightModel::kGaussian, 5.0, 1.0};
+  out[3] = {ppcr::WeightModel::kGaussian, 5.0, 1.0 / (0.08 * 0.08)};
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("evaluate equals the naive per-pair sums (explicit Jacobians)", "[normal_equations]") {
+  const Problem pb = make_problem(51, 700, 8, 0.15);
+  REQUIRE(pb.assoc.pairs > 1000u);
+  REQUIRE(pb.assoc.matched < pb.source.size());  // some points without neighbours
+  for (const WeightParams& wp : weight_params()) {
+    // At the association pose and at a pose moved away from it.
+    for (const Eigen::Isometry3d& T :
+         {pb.T, core_test::make_pose(Eigen::Vector3d(1, 0, 0), 0.03, Eigen::Vector3d(0.01, 0, 0)) *
+                    pb.T}) {
+      const Reference ref = naive(pb, wp, T, nullptr, false);
+      const Output out = run(pb, wp, T, nullptr, 1);
+      INFO("model " << static_cast<int>(wp.model) << " inv_s2 " << wp.inv_scale_sq);
+      CHECK(rel_diff(out.eval.H, ref.H) < 1e-12);
+      CHECK(rel_diff(out.eval.g, ref.g) < 1e-11);
+      CHECK(std::abs(out.eval.cost - ref.cost) < 1e-12 * ref.cost);
+      CHECK(std::abs(out.eval.weight_sum - ref.weight_sum) < 1e-12 * ref.weight_sum);
+      CHECK(out.eval.cost_prev_weights == 0.0);
+      const std::size_t k = static_cast<std::size_t>(pb.assoc.k);
+      double max_w = 0.0, max_r = 0.0;
+      for (std::size_t j = 0; j < pb.source.size(); ++j) {
+        for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
+          max_w = std::max(max_w, std::abs(out.w[j * k + m] - ref.w[j * k + m]) /
+                                      std::max(ref.w[j * k + m], 1e-300));
+          max_r = std::max(max_r, std::abs(out.r_sq[j * k + m] - ref.r_sq[j * k + m]) /
+                                      std::max(ref.r_sq[j * k + m], 1e-300));
+        }
+      }
+      CHECK(max_w < 1e-9);
+      CHECK(max_r < 1e-9);
+    }
+  }
+}
+
+TEST_CASE("the analytic Jacobian equals central differences of the error", "[normal_equations]") {
+  Rng rng(52);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::Isometry3d T = core_test::make_pose(
+        core_test::random_unit_vector(rng), core_test::uniform(rng, 0.0, 3.0),
+        core_test::uniform(rng, 0.0, 3.0) * core_test::random_unit_vector(rng));
+    const Eigen::Vector3d x =
+        core_test::uniform(rng, 0.0, 3.0) * core_test::random_unit_vector(rng);
+    const Jacobian Jn = numeric_jacobian(T, x);
+    const Jacobian Ja = analytic_jacobian(T * x);
+    CHECK((Jn - Ja).cwiseAbs().maxCoeff() < 1e-8 * (1.0 + (T * x).norm()));
+  }
+}
+
+TEST_CASE("evaluate equals per-pair sums built from NUMERIC Jacobians", "[normal_equations]") {
+  // Independent of the analytic form of J: J by central differences through se3::exp.
+  const Problem pb = make_problem(53, 400, 6, 0.15);
+  for (const WeightParams& wp : weight_params()) {
+    const Reference ref = naive(pb, wp, pb.T, nullptr, true);
+    const Output out = run(pb, wp, pb.T, nullptr, 1);
+    CHECK(rel_diff(out.eval.H, ref.H) < 1e-7);
+    CHECK(rel_diff(out.eval.g, ref.g) < 1e-7);
+  }
+}
+
+TEST_CASE("g is the central-difference gradient of the cost under fixed weights",
+          "[normal_equations]") {
+  const Problem pb = make_problem(54, 500, 6, 0.15);
+  for (const WeightParams& wp : weight_params()) {
+    const Output at = run(pb, wp, pb.T, nullptr, 1);
+    const std::vector<double>& w_fixed = at.w;
+    // cost(delta) = 1/2 sum w_fixed |y - exp(delta) T x|^2, through the cost_prev_weights path.
+    auto cost = [&](const Vector6d& d) {
+      return run(pb, wp, ppcr::se3::exp(d) * pb.T, w_fixed.data(), 1).eval.cost_prev_weights;
+    };
+    // At delta = 0 the fixed weights ARE the weights of the pose: both costs agree.
+    CHECK(std::abs(cost(Vector6d::Zero()) - at.eval.cost) <= 1e-14 * at.eval.cost);
+    const double h = 1e-6;
+    Vector6d g_num;
+    for (int c = 0; c < 6; ++c) {
+      Vector6d d = Vector6d::Zero();
+      d(c) = h;
+      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
+    }
+    INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
+    CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
+  }
+}
+
+TEST_CASE("H is the Hessian of the fixed-weight cost when the residuals vanish",
+          "[normal_equations]") {
+  // k = 1 exact correspondences: the Gauss-Newton matrix is then the exact Hessian, which second
+  // differences of the fixed-weight cost give independently.
+  Rng rng(55);
+  Problem pb;
+  pb.source = core_test::uniform_cloud(rng, 300, -1.0, 1.0);
+  pb.T = core_test::make_pose(Eigen::Vector3d(1, 2, 3), 0.4, Eigen::Vector3d(0.3, 0.2, 0.1));
+  pb.target = core_test::transformed(pb.source, pb.T);
+  pb.assoc.resize(pb.source.size(), 1);
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    pb.assoc.index[j] = static_cast<std::uint32_t>(j);
+    pb.assoc.count[j] = 1;
+  }
+  pb.assoc.pairs = pb.assoc.matched = pb.source.size();
+  const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0};
+  const Output at = run(pb, wp, pb.T, nullptr, 1);
+  CHECK(at.eval.cost < 1e-25);
+  auto cost = [&](const Vector6d& d) {
+    return run(pb, wp, ppcr::se3::exp(d) * pb.T, at.w.data(), 1).eval.cost_prev_weights;
+  };
+  const double h = 1e-4;
+  Matrix6d H_num;
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b < 6; ++b) {
+      Vector6d da = Vector6d::Zero(), db = Vector6d::Zero();
+      da(a) = h;
+      db(b) = h;
+      H_num(a, b) =
+          (cost(da + db) - cost(da - db) - cost(-da + db) + cost(-da - db)) / (4.0 * h * h);
+    }
+  }
+  INFO("H\n" << at.eval.H << "\nnumeric\n" << H_num);
+  CHECK(rel_diff(at.eval.H, H_num) < 1e-5);
+}
+
+TEST_CASE("cost_prev_weights is the cost at the pose under the given weights",
+          "[normal_equations]") {
+  const Problem pb = make_problem(56, 600, 5, 0.2);
+  Rng rng(57);
+  std::vector<double> w_prev(pb.source.size() * 5);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
+  for (const WeightParams& wp : weight_params()) {
+    const Eigen::Isometry3d T =
+        core_test::make_pose(Eigen::Vector3d(0, 1, 0), 0.05, Eigen::Vector3d(0, 0, 0.02)) * pb.T;
+    const Reference ref = naive(pb, wp, T, w_prev.data(), false);
+    const Output out = run(pb, wp, T, w_prev.data(), 1);
+    CHECK(std::abs(out.eval.cost_prev_weights - ref.cost_prev) < 1e-12 * ref.cost_prev);
+    // The new weights and everything under them are unaffected by w_prev.
+    const Output plain = run(pb, wp, T, nullptr, 1);
+    CHECK(out.eval.H == plain.eval.H);
+    CHECK(out.eval.g == plain.eval.g);
+    CHECK(out.eval.cost == plain.eval.cost);
+  }
+}
+
+TEST_CASE("points without neighbours contribute nothing, no pairs gives zeros",
+          "[normal_equations]") {
+  Rng rng(58);
+  Problem pb;
+  pb.source = core_test::uniform_cloud(rng, 100, -1.0, 1.0);
+  pb.target = core_test::uniform_cloud(rng, 100, -1.0, 1.0);
+  pb.T = Eigen::Isometry3d::Identity();
+  pb.assoc.resize(pb.source.size(), 3);  // all counts zero
+  const WeightParams wp;
+  const Output out = run(pb, wp, pb.T, nullptr, 2);
+  CHECK(out.eval.H == Matrix6d::Zero());
+  CHECK(out.eval.g == Vector6d::Zero());
+  CHECK(out.eval.cost == 0.0);
+  CHECK(out.eval.weight_sum == 0.0);
+  // Hand-made table: only point 7 has neighbours; equals the naive sum of that point alone.
+  pb.assoc.count[7] = 2;
+  pb.assoc.index[21] = 3;
+  pb.assoc.index[22] = 50;
+  pb.assoc.pairs = 2;
+  pb.assoc.matched = 1;
+  const Reference ref = naive(pb, wp, pb.T, nullptr, false);
+  const Output one = run(pb, wp, pb.T, nullptr, 1);
+  CHECK(rel_diff(one.eval.H, ref.H) < 1e-14);
+  CHECK(rel_diff(one.eval.g, ref.g) < 1e-14);
+}
+
+TEST_CASE("evaluate is bit-identical with 1 and 2 threads (~10k points, blocks of 256)",
+          "[normal_equations]") {
+  const Problem pb = make_problem(59, 10000, 10, 0.08);
+  REQUIRE(pb.source.size() > 20 * NormalEquations::kBlockSize);
+  Rng rng(60);
+  std::vector<double> w_prev(pb.source.size() * 10);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
+  for (const WeightParams& wp : weight_params()) {
+    const Output one = run(pb, wp, pb.T, w_prev.data(), 1);
+    const Output two = run(pb, wp, pb.T, w_prev.data(), 2);
+    CHECK(one.eval.H == two.eval.H);
+    CHECK(one.eval.g == two.eval.g);
+    CHECK(one.eval.cost == two.eval.cost);
+    CHECK(one.eval.cost_prev_weights == two.eval.cost_prev_weights);
+    CHECK(one.eval.weight_sum == two.eval.weight_sum);
+    CHECK(one.w == two.w);
+    CHECK(one.r_sq == two.r_sq);
+  }
+}
+
+// ------------------------------------------------------------------------------ plane model
+
+TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[normal_equations]") {
+  const Problem pb = make_problem(61, 600, 6, 0.15);
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 62);
+  Rng rng(63);
+  std::vector<double> w_prev(pb.source.size() * 6);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
+  for (double epsilon : {0.05, 0.3, 1.0}) {
+    ppcr::detail::PlaneModel plane;
+    plane.normals = &normals;
+    plane.epsilon = epsilon;
+    for (const WeightParams& wp : weight_params()) {
+      const Eigen::Isometry3d T =
+          core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
+      const Reference ref = naive_plane(pb, wp, T, w_prev.data(), normals, epsilon);
+      const Output out = run(pb, wp, T, w_prev.data(), 1, &plane);
+      INFO("epsilon " << epsilon << " model " << static_cast<int>(wp.model) << " inv_s2 "
+                      << wp.inv_scale_sq);
+      CHECK(rel_diff(out.eval.H, ref.H) < 1e-12);
+      CHECK(rel_diff(out.eval.g, ref.g) < 1e-11);
+      CHECK(std::abs(out.eval.cost - ref.cost) < 1e-12 * ref.cost);
+      CHECK(std::abs(out.eval.cost_prev_weights - ref.cost_prev) < 1e-12 * ref.cost_prev);
+      CHECK(std::abs(out.eval.weight_sum - ref.weight_sum) < 1e-12 * ref.weight_sum);
+      double max_r = 0.0;
+      for (std::size_t i = 0; i < ref.r_sq.size(); ++i) {
+        if (ref.r_sq[i] == 0.0) continue;  // unused slot
+        max_r = std::max(max_r, std::abs(out.r_sq[i] - ref.r_sq[i]) / ref.r_sq[i]);
+      }
+      CHECK(max_r < 1e-9);
+      // Two threads: bit-identical.
+      const Output two = run(pb, wp, T, w_prev.data(), 2, &plane);
+      CHECK(two.eval.H == out.eval.H);
+      CHECK(two.eval.g == out.eval.g);
+      CHECK(two.eval.cost == out.eval.cost);
+    }
+  }
+}
+
+TEST_CASE("plane model: g is the central-difference gradient of the fixed-weight cost",
+          "[normal_equations]") {
+  const Problem pb = make_problem(64, 500, 6, 0.15);
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 65);
+  ppcr::detail::PlaneModel plane;
+  plane.normals = &normals;
+  plane.epsilon = 0.05;
+  for (const WeightParams& wp : weight_params()) {
+    const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
+    auto cost = [&](const Vector6d& d) {
+      return run(pb, wp, ppcr::se3::exp(d) * pb.T, at.w.data(), 1, &plane).eval.cost_prev_weights;
+    };
+    CHECK(std::abs(cost(Vector6d::Zero()) - at.eval.cost) <= 1e-14 * at.eval.cost);
+    const double h = 1e-6;
+    Vector6d g_num;
+    for (int c = 0; c < 6; ++c) {
+      Vector6d d = Vector6d::Zero();
+      d(c) = h;
+      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
+    }
+    INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
+    CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
+  }
+}
+
+TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residuals",
+          "[normal_equations]") {
+  Rng rng(66);
+  Problem pb;
+  pb.source = core_test::uniform_cloud(rng, 300, -1.0, 1.0);
+  pb.T = core_test::make_pose(Eigen::Vector3d(1, 2, 3), 0.4, Eigen::Vector3d(0.3, 0.2, 0.1));
+  pb.target = core_test::transformed(pb.source, pb.T);
+  pb.assoc.resize(pb.source.size(), 1);
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    pb.assoc.index[j] = static_cast<std::uint32_t>(j);
+    pb.assoc.count[j] = 1;
+  }
+  pb.assoc.pairs = pb.assoc.matched = pb.source.size();
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 67);
+  ppcr::detail::PlaneModel plane;
+  plane.normals = &normals;
+  plane.epsilon = 0.05;
+  const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0};
+  const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
+  auto cost = [&](const Vector6d& d) {
+    return run(pb, wp, ppcr::se3::exp(d) * pb.T, at.w.data(), 1, &plane).eval.cost_prev_weights;
+  };
+  const double h = 1e-4;
+  Matrix6d H_num;
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b < 6; ++b) {
+      Vector6d da = Vector6d::Zero(), db = Vector6d::Zero();
+      da(a) = h;
+      db(b) = h;
+      H_num(a, b) =
+          (cost(da + db) - cost(da - db) - cost(-da + db) + cost(-da - db)) / (4.0 * h * h);
+    }
+  }
+  INFO("H\n" << at.eval.H << "\nnumeric\n" << H_num);
+  CHECK(rel_diff(at.eval.H, H_num) < 1e-5);
+}
+
+TEST_CASE("plane model without normals is the point model", "[normal_equations]") {
+  const Problem pb = make_problem(68, 500, 6, 0.15);
+  const std::vector<Eigen::Vector3d> none(pb.target.size(), Eigen::Vector3d::Zero());
+  ppcr::detail::PlaneModel plane;
+  plane.normals = &none;
+  plane.epsilon = 0.05;  // unused without normals: Omega = I
+  for (const WeightParams& wp : weight_params()) {
+    const Output a = run(pb, wp, pb.T, nullptr, 1, &plane);
+    const Output b = run(pb, wp, pb.T, nullptr, 1);
+    CHECK(rel_diff(a.eval.H, b.eval.H) < 1e-12);
+    CHECK(rel_diff(a.eval.g, b.eval.g) < 1e-11);
+    CHECK(std::abs(a.eval.cost - b.eval.cost) < 1e-12 * b.eval.cost);
+  }
+}
+
+TEST_CASE("normal_information equals the naive sum of w J^T n n^T J", "[normal_equations]") {
+  const Problem pb = make_problem(69, 400, 5, 0.15);
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 70);
+  Rng rng(71);
+  std::vector<double> w(pb.source.size() * 5);
+  for (double& v : w) v = core_test::uniform(rng, 0.0, 1.0);
+  const std::size_t k = 5;
+  Matrix6d ref = Matrix6d::Zero();
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    const Jacobian J = analytic_jacobian(pb.T * pb.source[j]);
+    for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
+      const Eigen::Vector3d& n = normals[pb.assoc.index[j * k + m]];
+      ref += w[j * k + m] * J.transpose() * (n * n.transpose()) * J;
+    }
+  }
+  const Matrix6d got =
+      NormalEquations::normal_information(pb.source, pb.target, pb.assoc, pb.T, w.data(), normals);
+  CHECK(rel_diff(got, ref) < 1e-12);
+}

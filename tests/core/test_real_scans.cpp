@@ -1,0 +1,186 @@
+// Registration of the real scans in ../shared/data (see its README.md) against their ground
+// truths: the paper's 45-degree bunny pair and an outdoor LiDAR pair started from a perturbed
+// ground truth. Skipped (exit 77) when the data folder is absent.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core_test_util.hpp"
+#include "ppcr/metrics.hpp"
+#include "ppcr/registration.hpp"
+#include "ppcr/se3.hpp"
+#include "test_data.hpp"
+
+#if defined(PPCR_TEST_HAVE_IO)
+#include "ppcr/io.hpp"
+#endif
+
+using ppcr::PointCloud;
+using ppcr::RegistrationOptions;
+using ppcr::RegistrationResult;
+
+namespace {
+
+#if defined(PPCR_TEST_HAVE_IO)
+PointCloud load_cloud(const std::string& relative) {
+  PointCloud cloud;
+  const ppcr::Status s = ppcr::io::read_cloud(ppcr_test::data_path(relative), &cloud);
+  INFO(s.to_string());
+  REQUIRE(s.ok());
+  return cloud;
+}
+#else
+// Without ppcr_io (configured with PPCR_BUILD_IO=OFF): the data's own format only, binary
+// little-endian PLY whose vertex element has float x, y, z as its first properties.
+PointCloud load_cloud(const std::string& relative) {
+  const std::string path = ppcr_test::data_path(relative);
+  std::ifstream in(path, std::ios::binary);
+  REQUIRE(in.good());
+  std::string line;
+  std::size_t count = 0;
+  int properties = 0;
+  bool in_vertex = false;
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") {
+      std::string fmt;
+      ls >> fmt;
+      REQUIRE(fmt == "binary_little_endian");
+    } else if (word == "element") {
+      std::string name;
+      ls >> name;
+      in_vertex = name == "vertex";
+      if (in_vertex) ls >> count;
+    } else if (word == "property" && in_vertex) {
+      std::string type;
+      ls >> type;
+      REQUIRE(type == "float");
+      ++properties;
+    }
+  }
+  REQUIRE(properties >= 3);
+  PointCloud cloud(count);
+  std::vector<float> row(static_cast<std::size_t>(properties));
+  for (std::size_t i = 0; i < count; ++i) {
+    in.read(reinterpret_cast<char*>(row.data()),
+            static_cast<std::streamsize>(row.size() * sizeof(float)));
+    REQUIRE(in.good());
+    cloud[i] = Eigen::Vector3d(row[0], row[1], row[2]);
+  }
+  return cloud;
+}
+#endif
+
+// 16 numbers, row-major; re-orthonormalised (the files carry 9 significant digits).
+Eigen::Isometry3d load_transform(const std::string& relative) {
+  std::ifstream in(ppcr_test::data_path(relative));
+  REQUIRE(in.good());
+  Eigen::Matrix4d M;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) REQUIRE(static_cast<bool>(in >> M(r, c)));
+  }
+  REQUIRE(ppcr::se3::is_rigid(M, 1e-5));
+  Eigen::Isometry3d T;
+  T.matrix() = M;
+  return ppcr::se3::orthonormalized(T);
+}
+
+std::string describe(const RegistrationResult& r, const Eigen::Isometry3d& T_gt) {
+  std::ostringstream s;
+  s << r.status.to_string() << ", stop " << ppcr::to_string(r.stop_reason) << ", " << r.iterations
+    << " iterations, " << r.source_points << " / " << r.target_points << " points, scale "
+    << r.scale << ", rotation error " << ppcr::rotation_error_deg(r.T_target_source, T_gt)
+    << " deg, translation error " << ppcr::translation_error(r.T_target_source, T_gt);
+  return s.str();
+}
+
+// The trace is finite and the costs in it are those the cost drop is computed from.
+void check_trace(const RegistrationResult& r) {
+  REQUIRE(static_cast<int>(r.history.size()) == r.iterations);
+  for (const ppcr::IterationRecord& h : r.history) {
+    INFO("iteration " << h.iteration);
+    CHECK(std::isfinite(h.initial_cost));
+    CHECK(std::isfinite(h.final_cost));
+    CHECK(h.initial_cost > 0.0);
+    CHECK(h.final_cost >= 0.0);
+    CHECK(h.cost_drop == Approx((h.initial_cost - h.final_cost) / h.initial_cost).margin(1e-15));
+    CHECK(std::isfinite(h.mse_prev));
+    CHECK(h.mse_prev >= 0.0);
+    CHECK(std::isfinite(h.scale));
+    CHECK(h.scale > 0.0);
+    CHECK(h.matched_source_points > 0u);
+    CHECK(h.T_target_source.matrix().allFinite());
+    CHECK(ppcr::se3::is_rigid(h.T_target_source.matrix(), 1e-9));
+  }
+  CHECK(r.initial_cost == r.history.front().initial_cost);
+  CHECK(r.final_cost == r.history.back().final_cost);
+  // The stop was the cost drop: the last cost_drop_patience + 1 drops were below 1 %.
+  if (r.stop_reason == ppcr::StopReason::kCostDrop) {
+    const int patience = RegistrationOptions().termination.cost_drop_patience;
+    REQUIRE(r.iterations >= patience + 1);
+    for (int i = r.iterations - patience - 1; i < r.iterations; ++i) {
+      CHECK(r.history[static_cast<std::size_t>(i)].cost_drop < 0.01);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)", "[real]") {
+  const PointCloud target = load_cloud("bunny/bun000.ply");
+  const PointCloud source = load_cloud("bunny/bun045.ply");
+  const Eigen::Isometry3d T_gt = load_transform("bunny/bun045_gt.txt");
+  CHECK(target.size() == 40256u);
+  CHECK(source.size() == 40097u);
+  RegistrationOptions o;
+  o.radius = 0.02;
+  o.source_voxel = o.target_voxel = 0.002;
+  const RegistrationResult r = ppcr::align(source, target, o, Eigen::Isometry3d::Identity(), &T_gt);
+  INFO(describe(r, T_gt));
+  REQUIRE(r.status.ok());
+  CHECK(r.converged());
+  // Measured 0.065 degrees / 0.05 mm (the authors' code: 3.7-4.3 degrees on these clouds in
+  // metres, 0.52 in millimetres).
+  CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.2);
+  CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 5e-4);
+  // The start is far: the ground truth's rotation is 34.3 degrees (the scan is nominally at 45
+  // degrees, as the data README says, but bun045_gt.txt rotates by 34.3).
+  CHECK(ppcr::rotation_error_deg(Eigen::Isometry3d::Identity(), T_gt) > 30.0);
+  check_trace(r);
+  // The ground-truth columns: the error fell over the run.
+  CHECK(r.history.back().mse_ground_truth < 0.01 * r.history.front().mse_ground_truth);
+  CHECK(r.history.back().benchmark_error < r.history.front().benchmark_error);
+}
+
+TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation", "[real]") {
+  const PointCloud source = load_cloud("lidar/source.ply");
+  const PointCloud target = load_cloud("lidar/target.ply");
+  const Eigen::Isometry3d T_gt = load_transform("lidar/source_gt.txt");
+  RegistrationOptions o;
+  o.radius = 1.0;
+  o.source_voxel = o.target_voxel = 0.2;
+  for (double sign : {1.0, -1.0}) {
+    // Perturbation in the target frame: 10 degrees about an axis near the vertical, 0.5 m
+    // horizontally.
+    const Eigen::Isometry3d perturbation =
+        core_test::make_pose(Eigen::Vector3d(0.1, 0.05, 1.0), sign * core_test::deg2rad(10.0),
+                             0.5 * Eigen::Vector3d(0.8, 0.6, 0.0));
+    const Eigen::Isometry3d T0 = perturbation * T_gt;
+    REQUIRE(ppcr::rotation_error_deg(T0, T_gt) == Approx(10.0).epsilon(1e-9));
+    const RegistrationResult r = ppcr::align(source, target, o, T0);
+    INFO("yaw sign " << sign << ": " << describe(r, T_gt));
+    REQUIRE(r.status.ok());
+    CHECK(r.converged());
+    // Measured 0.13 degrees / 8 mm for both signs (the EM prototype: a 1.2 degree
+    // local minimum on this yaw).
+    CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.3);
+    CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 0.03);
+    check_trace(r);
+  }
+}

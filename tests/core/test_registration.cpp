@@ -1,0 +1,807 @@
+// Tests of the public API (ppcr::Registration, ppcr::align): option validation, input checks, and
+// registration of synthetic scenes of analytic surfaces moved by known transforms.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core_test_util.hpp"
+#include "ppcr/metrics.hpp"
+#include "ppcr/registration.hpp"
+
+using core_test::Rng;
+using ppcr::PointCloud;
+using ppcr::RegistrationOptions;
+using ppcr::RegistrationResult;
+using ppcr::StatusCode;
+using ppcr::StopReason;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+
+// The scene (about 2 m across) and a ground truth of 10 degrees and a few centimetres.
+struct Scene {
+  PointCloud target;  // the surfaces, target frame
+  PointCloud source;  // the same points (or an independent sample) in the source frame
+  Eigen::Isometry3d T_true;
+};
+
+const Eigen::Isometry3d& ground_truth() {
+  static const Eigen::Isometry3d T =
+      core_test::make_pose(Eigen::Vector3d(0.3, -0.5, 1.0), core_test::deg2rad(10.0),
+                           Eigen::Vector3d(0.04, -0.03, 0.02));
+  return T;
+}
+
+// same_points: the source is the target's points moved by T_true^-1 (an exact solution exists);
+// otherwise the source is an independent sample of the same surfaces.
+Scene make_scene(std::size_t source_points, std::size_t target_points, bool same_points,
+                 std::uint64_t seed = 100) {
+  Rng rng(seed);
+  Scene s;
+  s.T_true = ground_truth();
+  s.target = core_test::analytic_scene(rng, target_points);
+  const PointCloud src_world =
+      same_points ? s.target : core_test::analytic_scene(rng, source_points);
+  s.source = core_test::transformed(src_world, s.T_true.inverse());
+  return s;
+}
+
+RegistrationOptions scene_options() {
+  RegistrationOptions o;
+  o.radius = 0.2;  // 10 % of the scene: covers the initial misalignment (up to ~0.25 m)
+  return o;
+}
+
+// RMS displacement of the source points between two poses (the error that matters at the
+// cloud, whatever the distance of the cloud from the origin).
+double rms_error(const PointCloud& source, const Eigen::Isometry3d& A, const Eigen::Isometry3d& B) {
+  double sum = 0.0;
+  for (const Eigen::Vector3d& x : source) sum += (A * x - B * x).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(source.size()));
+}
+
+double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return core_test::angle_between_deg(a.linear(), b.linear());
+}
+
+std::string describe(const RegistrationResult& r) {
+  return r.status.to_string() + ", stop " + ppcr::to_string(r.stop_reason) + ", " +
+         std::to_string(r.iterations) + " iterations, scale " + std::to_string(r.scale);
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+struct BadOption {
+  const char* what;
+  std::function<void(RegistrationOptions&)> set;
+  std::vector<std::string> message_parts;  // the parameter's name and the value seen
+};
+
+// Options whose message names the parameter and the value.
+std::vector<BadOption> bad_options() {
+  using O = RegistrationOptions;
+  return {
+      {"radius 0", [](O& o) { o.radius = 0.0; }, {"radius", "0"}},
+      {"radius -1", [](O& o) { o.radius = -1.0; }, {"radius", "-1"}},
+      {"radius NaN", [](O& o) { o.radius = kNaN; }, {"radius", "nan"}},
+      {"radius Inf", [](O& o) { o.radius = kInf; }, {"radius", "inf"}},
+      {"max_neighbours 0", [](O& o) { o.max_neighbours = 0; }, {"max_neighbours", "0"}},
+      {"max_neighbours -3", [](O& o) { o.max_neighbours = -3; }, {"max_neighbours", "-3"}},
+      {"max_neighbours 1025", [](O& o) { o.max_neighbours = 1025; }, {"max_neighbours", "1025"}},
+      {"dof 0", [](O& o) { o.weights.dof = 0.0; }, {"dof", "0"}},
+      {"dof -2", [](O& o) { o.weights.dof = -2.0; }, {"dof", "-2"}},
+      {"dof NaN", [](O& o) { o.weights.dof = kNaN; }, {"dof", "nan"}},
+      {"fixed scale 0",
+       [](O& o) {
+         o.weights.scale_mode = ppcr::ScaleMode::kFixed;
+         o.weights.scale = 0.0;
+       },
+       {"scale", "0"}},
+      {"fixed scale -0.5",
+       [](O& o) {
+         o.weights.scale_mode = ppcr::ScaleMode::kFixed;
+         o.weights.scale = -0.5;
+       },
+       {"scale", "-0.5"}},
+      {"EM scale -1", [](O& o) { o.weights.scale = -1.0; }, {"scale", "-1"}},
+      {"EM scale NaN", [](O& o) { o.weights.scale = kNaN; }, {"scale", "nan"}},
+      {"em_min_shrink 0", [](O& o) { o.weights.em_min_shrink = 0.0; }, {"em_min_shrink", "0"}},
+      {"em_min_shrink 1.5", [](O& o) { o.weights.em_min_shrink = 1.5; }, {"em_min_shrink", "1.5"}},
+      {"em_min_shrink NaN", [](O& o) { o.weights.em_min_shrink = kNaN; }, {"em_min_shrink", "nan"}},
+      {"em_min_scale -1", [](O& o) { o.weights.em_min_scale = -1.0; }, {"em_min_scale", "-1"}},
+      {"num_threads 0", [](O& o) { o.num_threads = 0; }, {"num_threads", "0"}},
+      {"num_threads -1", [](O& o) { o.num_threads = -1; }, {"num_threads", "-1"}},
+      {"lm.max_iterations 0", [](O& o) { o.lm.max_iterations = 0; }, {"lm.max_iterations", "0"}},
+      {"lm.initial_lambda 0", [](O& o) { o.lm.initial_lambda = 0.0; }, {"initial_lambda", "0"}},
+      {"lm.max_lambda below initial",
+       [](O& o) { o.lm.max_lambda = 1e-5; },
+       {"max_lambda", "1e-05"}},
+      {"unknown criterion bits",
+       [](O& o) { o.termination.criteria = ppcr::kCriterionCostDrop | 16u; },
+       {"criterion", "18"}},
+      {"termination.max_iterations 0",
+       [](O& o) { o.termination.max_iterations = 0; },
+       {"max_iterations", "0"}},
+      {"fixed_iterations 0",
+       [](O& o) { o.termination.fixed_iterations = 0; },
+       {"fixed_iterations", "0"}},
+      {"cost_drop_threshold NaN",
+       [](O& o) { o.termination.cost_drop_threshold = kNaN; },
+       {"cost_drop_threshold", "nan"}},
+      {"plane.normal_neighbours 4",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.normal_neighbours = 4;
+       },
+       {"plane.normal_neighbours", "4"}},
+      {"plane.normal_neighbours 65",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.normal_neighbours = 65;
+       },
+       {"plane.normal_neighbours", "65"}},
+      {"plane.epsilon 0",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.epsilon = 0.0;
+       },
+       {"plane.epsilon", "0"}},
+      {"plane.epsilon 1.5",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.epsilon = 1.5;
+       },
+       {"plane.epsilon", "1.5"}},
+      {"plane.epsilon NaN",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.epsilon = kNaN;
+       },
+       {"plane.epsilon", "nan"}},
+      {"cost_drop_max_motion -1",
+       [](O& o) { o.termination.cost_drop_max_motion = -1.0; },
+       {"cost_drop_max_motion", "-1"}},
+      {"cost_drop_max_motion NaN",
+       [](O& o) { o.termination.cost_drop_max_motion = kNaN; },
+       {"cost_drop_max_motion", "nan"}},
+      {"mse_ratio_threshold 0",
+       [](O& o) { o.termination.mse_ratio_threshold = 0.0; },
+       {"mse_ratio_threshold", "0"}},
+  };
+}
+
+// Options that are refused, but whose message does not name the parameter and/or the value.
+std::vector<BadOption> bad_options_vague_message() {
+  using O = RegistrationOptions;
+  return {
+      {"em_coarse_drop NaN",
+       [](O& o) { o.weights.em_coarse_drop = kNaN; },
+       {"em_coarse_drop", "nan"}},
+      {"em_coarse_patience -1",
+       [](O& o) { o.weights.em_coarse_patience = -1; },
+       {"em_coarse_patience", "-1"}},
+      {"em_coarse_motion -1",
+       [](O& o) { o.weights.em_coarse_motion = -1.0; },
+       {"em_coarse_motion", "-1"}},
+      {"em_coarse_max_motion -1",
+       [](O& o) { o.weights.em_coarse_max_motion = -1.0; },
+       {"em_coarse_max_motion", "-1"}},
+      {"source_voxel -1", [](O& o) { o.source_voxel = -1.0; }, {"source_voxel", "-1"}},
+      {"target_voxel NaN", [](O& o) { o.target_voxel = kNaN; }, {"target_voxel", "nan"}},
+      {"lm.function_tolerance -1",
+       [](O& o) { o.lm.function_tolerance = -1.0; },
+       {"function_tolerance", "-1"}},
+      {"lm.gradient_tolerance NaN",
+       [](O& o) { o.lm.gradient_tolerance = kNaN; },
+       {"gradient_tolerance", "nan"}},
+      {"lm.step_tolerance -1", [](O& o) { o.lm.step_tolerance = -1.0; }, {"step_tolerance", "-1"}},
+      {"cost_drop_patience -1",
+       [](O& o) { o.termination.cost_drop_patience = -1; },
+       {"cost_drop_patience", "-1"}},
+      {"mse_patience -2", [](O& o) { o.termination.mse_patience = -2; }, {"mse_patience", "-2"}},
+      {"successful_steps_patience -1",
+       [](O& o) { o.termination.successful_steps_patience = -1; },
+       {"successful_steps_patience", "-1"}},
+  };
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------ validation
+
+TEST_CASE("validate accepts the defaults and the boundaries of each range", "[registration]") {
+  CHECK(ppcr::validate(RegistrationOptions()).ok());
+  RegistrationOptions o;
+  o.max_neighbours = 1;
+  CHECK(ppcr::validate(o).ok());
+  o.max_neighbours = 1024;
+  CHECK(ppcr::validate(o).ok());
+  o.weights.em_min_shrink = 1.0;
+  CHECK(ppcr::validate(o).ok());
+  o.termination.criteria = 0xF;
+  o.termination.max_iterations = 1;
+  o.lm.max_iterations = 1;
+  o.num_threads = 1;
+  CHECK(ppcr::validate(o).ok());
+  // Plane options are unused by the point model.
+  o.error_model = ppcr::ErrorModel::kPoint;
+  o.plane.normal_neighbours = 0;
+  o.plane.epsilon = -1.0;
+  CHECK(ppcr::validate(o).ok());
+  o.error_model = ppcr::ErrorModel::kPlane;
+  o.plane.normal_neighbours = 5;
+  o.plane.epsilon = 1.0;
+  CHECK(ppcr::validate(o).ok());
+  o.plane.normal_neighbours = 64;
+  CHECK(ppcr::validate(o).ok());
+  // dof is unused by the Gaussian model.
+  o.weights.model = ppcr::WeightModel::kGaussian;
+  o.weights.dof = 0.0;
+  CHECK(ppcr::validate(o).ok());
+}
+
+TEST_CASE("validate rejects each bad parameter, naming it and the value", "[registration]") {
+  for (const BadOption& b : bad_options()) {
+    RegistrationOptions o;
+    b.set(o);
+    const ppcr::Status s = ppcr::validate(o);
+    INFO(b.what << " -> " << s.to_string());
+    CHECK(s.code() == StatusCode::kInvalidArgument);
+    for (const std::string& part : b.message_parts) CHECK(contains(s.message(), part));
+    // The same status comes back from set_target and align, and the pose stays finite.
+    ppcr::Registration reg(o);
+    CHECK(reg.set_target(PointCloud(10, Eigen::Vector3d::Ones())).code() ==
+          StatusCode::kInvalidArgument);
+    const RegistrationResult r = reg.align(PointCloud(10, Eigen::Vector3d::Ones()));
+    CHECK(r.status.code() == StatusCode::kInvalidArgument);
+    CHECK(r.stop_reason == StopReason::kInvalidInput);
+    CHECK_FALSE(r.converged());
+    CHECK(r.T_target_source.matrix().allFinite());
+  }
+}
+
+TEST_CASE("validate rejects the other bad parameters", "[registration]") {
+  for (const BadOption& b : bad_options_vague_message()) {
+    RegistrationOptions o;
+    b.set(o);
+    const ppcr::Status s = ppcr::validate(o);
+    INFO(b.what << " -> " << s.to_string());
+    CHECK(s.code() == StatusCode::kInvalidArgument);
+  }
+}
+
+// validate()'s contract: every message names the parameter and the value seen (these were once
+// grouped: "LM tolerances must be >= 0, got -1", "patience values must be >= 0").
+TEST_CASE("validate names the parameter and the value for every bad parameter", "[registration]") {
+  for (const BadOption& b : bad_options_vague_message()) {
+    RegistrationOptions o;
+    b.set(o);
+    const ppcr::Status s = ppcr::validate(o);
+    INFO(b.what << " -> " << s.to_string());
+    for (const std::string& part : b.message_parts) CHECK(contains(s.message(), part));
+  }
+}
+
+// ------------------------------------------------------------------------------ input checks
+
+TEST_CASE("too few points after dropping non-finite ones: kEmptyCloud with counts",
+          "[registration]") {
+  const Scene sc = make_scene(0, 500, true);
+  const RegistrationOptions o = scene_options();
+  SECTION("empty source") {
+    const RegistrationResult r = ppcr::align(PointCloud(), sc.target, o);
+    INFO(r.status.to_string());
+    CHECK(r.status.code() == StatusCode::kEmptyCloud);
+    CHECK(r.stop_reason == StopReason::kInvalidInput);
+    CHECK(contains(r.status.message(), "source"));
+    CHECK(contains(r.status.message(), "0 usable"));
+  }
+  SECTION("source with 2 finite points and 5 non-finite ones") {
+    PointCloud src = {Eigen::Vector3d(0, 0, 0),     Eigen::Vector3d(kNaN, 0, 0),
+                      Eigen::Vector3d(1, 0, 0),     Eigen::Vector3d(0, kInf, 0),
+                      Eigen::Vector3d(0, 0, -kInf), Eigen::Vector3d(kNaN, kNaN, kNaN),
+                      Eigen::Vector3d(0, kNaN, 1)};
+    const RegistrationResult r = ppcr::align(src, sc.target, o);
+    INFO(r.status.to_string());
+    CHECK(r.status.code() == StatusCode::kEmptyCloud);
+    CHECK(contains(r.status.message(), "2 usable"));
+    CHECK(contains(r.status.message(), "of 7"));
+    CHECK(contains(r.status.message(), "5 non-finite"));
+    CHECK(r.T_target_source.matrix().allFinite());
+  }
+  SECTION("target with 2 points") {
+    const PointCloud tgt = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0)};
+    const RegistrationResult r = ppcr::align(sc.source, tgt, o);
+    INFO(r.status.to_string());
+    CHECK(r.status.code() == StatusCode::kEmptyCloud);
+    CHECK(r.stop_reason == StopReason::kInvalidInput);
+    CHECK(contains(r.status.message(), "target"));
+    CHECK(contains(r.status.message(), "2 usable"));
+  }
+  SECTION("a voxel filter that leaves fewer than 3 points") {
+    RegistrationOptions ov = o;
+    ov.source_voxel = 100.0;  // one voxel for the whole scene
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, ov);
+    INFO(r.status.to_string());
+    CHECK(r.status.code() == StatusCode::kEmptyCloud);
+    CHECK(contains(r.status.message(), "1 usable"));
+    CHECK(contains(r.status.message(), "voxel"));
+  }
+  SECTION("exactly 3 points are enough") {
+    const PointCloud src = {sc.target[0], sc.target[1], sc.target[2]};
+    const RegistrationResult r = ppcr::align(src, sc.target, o);
+    INFO(describe(r));
+    CHECK(r.status.ok());
+    CHECK(r.source_points == 3u);
+  }
+}
+
+TEST_CASE("align without a target, or after a failed set_target, is refused", "[registration]") {
+  ppcr::Registration reg(scene_options());
+  const Scene sc = make_scene(0, 300, true);
+  RegistrationResult r = reg.align(sc.source);
+  CHECK(r.status.code() == StatusCode::kEmptyCloud);
+  CHECK(r.stop_reason == StopReason::kInvalidInput);
+  REQUIRE(reg.set_target(sc.target).ok());
+  CHECK(reg.set_target(PointCloud(2, Eigen::Vector3d::Zero())).code() == StatusCode::kEmptyCloud);
+  r = reg.align(sc.source);
+  CHECK(r.status.code() == StatusCode::kEmptyCloud);
+}
+
+TEST_CASE("non-finite points are dropped, counted, and change nothing else", "[registration]") {
+  const Scene sc = make_scene(0, 1500, true);
+  RegistrationOptions o = scene_options();
+  o.termination.max_iterations = 15;
+  PointCloud src = sc.source, tgt = sc.target;
+  src.insert(src.begin() + 10, Eigen::Vector3d(kNaN, 0, 0));
+  src.push_back(Eigen::Vector3d(0, kInf, 0));
+  src.insert(src.begin(), Eigen::Vector3d(-kInf, kNaN, 1));
+  tgt.insert(tgt.begin() + 500, Eigen::Vector3d(0, 0, kNaN));
+  tgt.push_back(Eigen::Vector3d(kInf, kInf, kInf));
+  const RegistrationResult dirty = ppcr::align(src, tgt, o);
+  const RegistrationResult clean = ppcr::align(sc.source, sc.target, o);
+  INFO(describe(dirty));
+  REQUIRE(dirty.status.ok());
+  CHECK(dirty.source_non_finite == 3u);
+  CHECK(dirty.target_non_finite == 2u);
+  CHECK(clean.source_non_finite == 0u);
+  CHECK(clean.target_non_finite == 0u);
+  CHECK(dirty.source_points == sc.source.size());
+  CHECK(dirty.target_points == sc.target.size());
+  CHECK(dirty.T_target_source.matrix() == clean.T_target_source.matrix());
+  CHECK(dirty.iterations == clean.iterations);
+}
+
+TEST_CASE(
+    "no correspondence within the radius: kNoCorrespondences, message with the radius "
+    "and both extents",
+    "[registration]") {
+  const Scene sc = make_scene(0, 500, true);
+  RegistrationOptions o = scene_options();
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() = Eigen::Vector3d(50.0, 0.0, 0.0);
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o, far);
+  INFO(r.status.to_string());
+  CHECK(r.status.code() == StatusCode::kNoCorrespondences);
+  CHECK(r.stop_reason == StopReason::kNoCorrespondences);
+  CHECK_FALSE(r.converged());
+  CHECK(contains(r.status.message(), "radius 0.2"));
+  CHECK(contains(r.status.message(), "source"));
+  CHECK(contains(r.status.message(), "target"));
+  // Extents "[lo, hi] x [lo, hi] x [lo, hi]" for both clouds; the source's moved by 50 in x.
+  CHECK(std::count(r.status.message().begin(), r.status.message().end(), '[') == 6);
+  CHECK(contains(r.status.message(), "[48."));
+  CHECK(r.T_target_source.matrix() == far.matrix());
+  CHECK(r.iterations == 0);
+  CHECK(r.matched_source_points == 0u);
+}
+
+TEST_CASE("a non-finite initial guess is refused", "[registration]") {
+  const Scene sc = make_scene(0, 300, true);
+  Eigen::Isometry3d bad = Eigen::Isometry3d::Identity();
+  bad.translation().x() = kNaN;
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, scene_options(), bad);
+  CHECK(r.status.code() == StatusCode::kInvalidArgument);
+  CHECK(r.stop_reason == StopReason::kInvalidInput);
+  CHECK(contains(r.status.message(), "initial guess"));
+}
+
+// A refused input returns the initial guess, or the identity when the guess is not finite:
+// never a NaN pose.
+TEST_CASE("the returned pose is finite even when the initial guess is not", "[registration]") {
+  const Scene sc = make_scene(0, 300, true);
+  Eigen::Isometry3d bad = Eigen::Isometry3d::Identity();
+  bad.translation().x() = kNaN;
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, scene_options(), bad);
+  CHECK(r.T_target_source.matrix().allFinite());
+}
+
+// ------------------------------------------------------------------------------ accuracy
+
+TEST_CASE("exact recovery on a noise-free synthetic scene (same points)", "[registration]") {
+  const Scene sc = make_scene(0, 3000, true);
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, scene_options());
+  INFO(describe(r));
+  REQUIRE(r.status.ok());
+  CHECK(r.converged());
+  CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.05);
+  CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);  // 1e-3 of 2 m
+  CHECK(rms_error(sc.source, r.T_target_source, sc.T_true) < 1e-3);
+  CHECK(r.degenerate_directions == 0);  // plane model (the default): well constrained
+  CHECK(r.source_points == 3000u);
+  CHECK(r.matched_source_points == 3000u);
+}
+
+TEST_CASE("recovery with a source sampled independently of a dense target", "[registration]") {
+  // Different samples of the same surfaces: the PPCR optimum is biased by the sampling (patch
+  // edges, curvature) by well under a point spacing; measured 0.044 degrees and 0.74 mm.
+  const Scene sc = make_scene(3000, 20000, false);
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, scene_options());
+  INFO(describe(r) << " rotation error " << rotation_error_deg(r.T_target_source, sc.T_true)
+                   << " translation error "
+                   << ppcr::translation_error(r.T_target_source, sc.T_true));
+  REQUIRE(r.status.ok());
+  CHECK(r.converged());
+  CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.1);
+  CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);
+}
+
+TEST_CASE("robust to 30 % uniform outliers in the source", "[registration]") {
+  Scene sc = make_scene(0, 3000, true);
+  Rng rng(7);
+  for (int i = 0; i < 900; ++i) {
+    sc.source.push_back(sc.T_true.inverse() * Eigen::Vector3d(core_test::uniform(rng, -1.3, 1.3),
+                                                              core_test::uniform(rng, -1.3, 1.3),
+                                                              core_test::uniform(rng, -0.3, 1.5)));
+  }
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, scene_options());
+  INFO(describe(r));
+  REQUIRE(r.status.ok());
+  CHECK(r.converged());
+  CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.5);
+  CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 5e-3);
+}
+
+TEST_CASE("raw, fixed and EM scales, Student-t and Gaussian, all converge on the scene",
+          "[registration]") {
+  const Scene sc = make_scene(0, 2000, true);
+  struct Mode {
+    const char* name;
+    ppcr::WeightModel model;
+    ppcr::ScaleMode scale_mode;
+    double scale;
+    double max_rotation_deg;
+  };
+  // Raw mode uses s = 1 m on a 2 m scene: nearly uniform weights over the neighbours, hence a
+  // smoothing bias (measured 0.12 degrees); the others recover the pose closely.
+  const Mode modes[] = {
+      {"Student-t EM", ppcr::WeightModel::kStudentT, ppcr::ScaleMode::kEM, 0.0, 0.05},
+      {"Student-t raw", ppcr::WeightModel::kStudentT, ppcr::ScaleMode::kRaw, 0.0, 0.5},
+      {"Student-t fixed", ppcr::WeightModel::kStudentT, ppcr::ScaleMode::kFixed, 0.02, 0.05},
+      {"Gaussian EM", ppcr::WeightModel::kGaussian, ppcr::ScaleMode::kEM, 0.0, 0.05},
+      {"Gaussian raw", ppcr::WeightModel::kGaussian, ppcr::ScaleMode::kRaw, 0.0, 0.5},
+      {"Gaussian fixed", ppcr::WeightModel::kGaussian, ppcr::ScaleMode::kFixed, 0.02, 0.05},
+  };
+  for (const Mode& m : modes) {
+    RegistrationOptions o = scene_options();
+    o.weights.model = m.model;
+    o.weights.scale_mode = m.scale_mode;
+    o.weights.scale = m.scale;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO(m.name << ": " << describe(r) << " rotation error "
+                << rotation_error_deg(r.T_target_source, sc.T_true));
+    REQUIRE(r.status.ok());
+    CHECK(r.converged());
+    CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < m.max_rotation_deg);
+    CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 5e-3);
+    if (m.scale_mode == ppcr::ScaleMode::kRaw) CHECK(r.scale == 1.0);
+    if (m.scale_mode == ppcr::ScaleMode::kFixed) CHECK(r.scale == Approx(0.02).epsilon(1e-15));
+    for (const ppcr::IterationRecord& h : r.history) {
+      if (m.scale_mode == ppcr::ScaleMode::kRaw) CHECK(h.scale == 1.0);
+    }
+    // EM starts at the coarse scale radius / 2.
+    if (m.scale_mode == ppcr::ScaleMode::kEM) CHECK(r.history.front().scale == Approx(0.1));
+  }
+}
+
+TEST_CASE("identical source and target from identity stay at identity", "[registration]") {
+  const Scene sc = make_scene(0, 2000, true);
+  SECTION("k = 1: zero cost at once, exactly identity") {
+    RegistrationOptions o = scene_options();
+    o.max_neighbours = 1;
+    const RegistrationResult r = ppcr::align(sc.target, sc.target, o);
+    INFO(describe(r));
+    CHECK(r.converged());
+    CHECK(r.stop_reason == StopReason::kZeroCost);
+    CHECK((r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 1e-9);
+  }
+  SECTION("default k = 10") {
+    // With k > 1 identity is not a stationary point of the coarse-scale cost (the neighbour
+    // relation and the posteriors are not symmetric); the loop returns to identity as the
+    // EM scale shrinks, down to the LM step tolerance (1e-7 of the radius = 2e-8 m).
+    const RegistrationOptions o = scene_options();
+    const RegistrationResult r = ppcr::align(sc.target, sc.target, o);
+    INFO(describe(r)
+         << " deviation "
+         << (r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff());
+    CHECK(r.converged());
+    CHECK((r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 1e-7);
+  }
+}
+
+TEST_CASE("a scene 1e6 m from the origin registers as well as at the origin", "[registration]") {
+  const Scene sc = make_scene(0, 2000, true);
+  const Eigen::Vector3d offset(1e6, -1e6, 1e6);
+  PointCloud src = sc.source, tgt = sc.target;
+  for (Eigen::Vector3d& p : src) p += offset;
+  for (Eigen::Vector3d& p : tgt) p += offset;
+  const Eigen::Isometry3d shift = core_test::make_pose(Eigen::Vector3d::UnitZ(), 0.0, offset);
+  const Eigen::Isometry3d T_true_far = shift * sc.T_true * shift.inverse();
+  const RegistrationResult near = ppcr::align(sc.source, sc.target, scene_options());
+  const RegistrationResult far = ppcr::align(src, tgt, scene_options());
+  INFO("near: " << describe(near) << "\nfar: " << describe(far));
+  REQUIRE(far.status.ok());
+  CHECK(far.converged());
+  const double e_near = rms_error(sc.source, near.T_target_source, sc.T_true);
+  const double e_far = rms_error(src, far.T_target_source, T_true_far);
+  INFO("RMS error near " << e_near << ", far " << e_far);
+  CHECK(e_far < 1e-3);
+  CHECK(e_far < 10.0 * e_near + 1e-6);
+  CHECK(rotation_error_deg(far.T_target_source, T_true_far) < 0.05);
+  CHECK(std::abs(far.iterations - near.iterations) <= 2);
+}
+
+// ------------------------------------------------------------------------------ determinism
+
+TEST_CASE("bit-identical T_target_source with num_threads 1 and 2", "[registration]") {
+  const Scene sc = make_scene(2500, 6000, false);
+  RegistrationOptions o = scene_options();
+  o.num_threads = 1;
+  const RegistrationResult one = ppcr::align(sc.source, sc.target, o);
+  o.num_threads = 2;
+  const RegistrationResult two = ppcr::align(sc.source, sc.target, o);
+  REQUIRE(one.status.ok());
+  CHECK(one.T_target_source.matrix() == two.T_target_source.matrix());
+  CHECK(one.iterations == two.iterations);
+  CHECK(one.final_cost == two.final_cost);
+  CHECK(one.information == two.information);
+}
+
+TEST_CASE("two registrations run concurrently give the sequential results", "[registration]") {
+  const Scene a = make_scene(1500, 3000, false, 200);
+  const Scene b = make_scene(1500, 3000, false, 300);
+  const RegistrationOptions o = scene_options();
+  const RegistrationResult seq_a = ppcr::align(a.source, a.target, o);
+  const RegistrationResult seq_b = ppcr::align(b.source, b.target, o);
+  RegistrationResult par_a, par_b;
+  std::thread ta([&] { par_a = ppcr::align(a.source, a.target, o); });
+  std::thread tb([&] { par_b = ppcr::align(b.source, b.target, o); });
+  ta.join();
+  tb.join();
+  CHECK(par_a.T_target_source.matrix() == seq_a.T_target_source.matrix());
+  CHECK(par_b.T_target_source.matrix() == seq_b.T_target_source.matrix());
+  CHECK(par_a.iterations == seq_a.iterations);
+  CHECK(par_b.iterations == seq_b.iterations);
+  CHECK(seq_a.T_target_source.matrix() != seq_b.T_target_source.matrix());
+}
+
+TEST_CASE("a Registration reused for several sources equals one-shot align", "[registration]") {
+  const Scene sc = make_scene(1500, 3000, false);
+  const RegistrationOptions o = scene_options();
+  ppcr::Registration reg(o);
+  REQUIRE(reg.set_target(sc.target).ok());
+  PointCloud smaller(sc.source.begin(), sc.source.begin() + 800);
+  const RegistrationResult r1 = reg.align(sc.source);
+  const RegistrationResult r2 = reg.align(smaller);
+  const RegistrationResult r3 = reg.align(sc.source);  // buffers resized back
+  CHECK(r1.T_target_source.matrix() ==
+        ppcr::align(sc.source, sc.target, o).T_target_source.matrix());
+  CHECK(r2.T_target_source.matrix() == ppcr::align(smaller, sc.target, o).T_target_source.matrix());
+  CHECK(r3.T_target_source.matrix() == r1.T_target_source.matrix());
+  // A moved-from-into Registration keeps working.
+  ppcr::Registration moved(std::move(reg));
+  CHECK(moved.align(sc.source).T_target_source.matrix() == r1.T_target_source.matrix());
+  CHECK(moved.options().radius == o.radius);
+}
+
+// ------------------------------------------------------------------------------ trace
+
+TEST_CASE("history: one finite row per iteration, consistent with the result", "[registration]") {
+  const Scene sc = make_scene(1500, 4000, false);
+  const RegistrationOptions o = scene_options();
+  // The source as the registration sees it (no filtering here).
+  const Eigen::Isometry3d T_gt = sc.T_true;
+  const RegistrationResult r =
+      ppcr::align(sc.source, sc.target, o, Eigen::Isometry3d::Identity(), &T_gt);
+  INFO(describe(r));
+  REQUIRE(r.status.ok());
+  REQUIRE(r.iterations >= 1);
+  REQUIRE(static_cast<int>(r.history.size()) == r.iterations);
+  int lm_iterations = 0, lm_successful = 0;
+  Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
+  for (std::size_t i = 0; i < r.history.size(); ++i) {
+    const ppcr::IterationRecord& h = r.history[i];
+    INFO("row " << i);
+    CHECK(h.iteration == static_cast<int>(i) + 1);
+    CHECK(h.successful_steps >= 0);
+    CHECK(h.unsuccessful_steps >= 0);
+    CHECK(std::isfinite(h.initial_cost));
+    CHECK(std::isfinite(h.final_cost));
+    CHECK(h.initial_cost > 0.0);
+    CHECK(std::isfinite(h.cost_drop));
+    CHECK(h.cost_drop == Approx((h.initial_cost - h.final_cost) / h.initial_cost).margin(1e-15));
+    CHECK(std::isfinite(h.scale));
+    CHECK(h.scale > 0.0);
+    CHECK(h.correspondences >= h.matched_source_points);
+    CHECK(h.matched_source_points <= sc.source.size());
+    CHECK(h.correspondences <=
+          h.matched_source_points * static_cast<std::size_t>(o.max_neighbours));
+    CHECK(h.T_target_source.matrix().allFinite());
+    CHECK(h.time_ms >= 0.0);
+    // The MSE rows against brute force over the source.
+    double mse_prev = 0.0, mse_gt = 0.0;
+    for (const Eigen::Vector3d& x : sc.source) {
+      mse_prev += (h.T_target_source * x - previous * x).squaredNorm();
+      mse_gt += (h.T_target_source * x - T_gt * x).squaredNorm();
+    }
+    // Compared as RMS: the brute-force differences of nearly equal poses carry ~1e-16 m.
+    const double n = static_cast<double>(sc.source.size());
+    CHECK(std::abs(std::sqrt(h.mse_prev) - std::sqrt(mse_prev / n)) <
+          1e-7 * std::sqrt(mse_prev / n) + 1e-14);
+    CHECK(std::abs(std::sqrt(h.mse_ground_truth) - std::sqrt(mse_gt / n)) <
+          1e-7 * std::sqrt(mse_gt / n) + 1e-14);
+    CHECK(h.benchmark_error == Approx(ppcr::benchmark_error(sc.source, T_gt, h.T_target_source))
+                                   .epsilon(1e-12)
+                                   .margin(1e-15));
+    lm_iterations += h.successful_steps + h.unsuccessful_steps;
+    lm_successful += h.successful_steps;
+    previous = h.T_target_source;
+  }
+  CHECK(r.lm_iterations == lm_iterations);
+  CHECK(r.lm_successful_steps == lm_successful);
+  CHECK(r.initial_cost == r.history.front().initial_cost);
+  CHECK(r.final_cost == r.history.back().final_cost);
+  CHECK(r.history.back().T_target_source.matrix() == r.T_target_source.matrix());
+  CHECK(r.correspondences == r.history.back().correspondences);
+  CHECK(r.matched_source_points == r.history.back().matched_source_points);
+  CHECK(r.scale > 0.0);
+  // The ground-truth error went down over the run.
+  CHECK(r.history.back().mse_ground_truth < r.history.front().mse_ground_truth);
+
+  SECTION("without a ground truth the analysis columns are -1") {
+    const RegistrationResult r2 = ppcr::align(sc.source, sc.target, o);
+    CHECK(r2.T_target_source.matrix() == r.T_target_source.matrix());  // analysis only
+    for (const ppcr::IterationRecord& h : r2.history) {
+      CHECK(h.mse_ground_truth == -1.0);
+      CHECK(h.benchmark_error == -1.0);
+    }
+  }
+  SECTION("record_history = false: no rows, the same result") {
+    RegistrationOptions o2 = o;
+    o2.record_history = false;
+    const RegistrationResult r3 = ppcr::align(sc.source, sc.target, o2);
+    CHECK(r3.history.empty());
+    CHECK(r3.iterations == r.iterations);
+    CHECK(r3.T_target_source.matrix() == r.T_target_source.matrix());
+  }
+}
+
+TEST_CASE("termination options reach the loop: fixed iterations and the hard cap",
+          "[registration]") {
+  const Scene sc = make_scene(0, 1000, true);
+  RegistrationOptions o = scene_options();
+  o.termination.criteria = ppcr::kCriterionFixed;
+  o.termination.fixed_iterations = 7;
+  RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+  CHECK(r.iterations == 7);
+  CHECK(r.stop_reason == StopReason::kFixedIterations);
+  CHECK(r.converged());
+  o.termination.criteria = 0;
+  o.termination.max_iterations = 4;
+  r = ppcr::align(sc.source, sc.target, o);
+  CHECK(r.iterations == 4);
+  CHECK(r.stop_reason == StopReason::kMaxIterations);
+  CHECK(r.status.ok());
+  CHECK_FALSE(r.converged());
+  CHECK(r.history.size() == 4u);
+}
+
+namespace {
+
+// Plane model registration of a target onto itself, moved slightly (an exact solution exists).
+RegistrationResult plane_model_run(const PointCloud& target) {
+  RegistrationOptions o = scene_options();
+  o.error_model = ppcr::ErrorModel::kPlane;
+  const Eigen::Isometry3d T =
+      core_test::make_pose(Eigen::Vector3d(1, 2, 3), 0.02, Eigen::Vector3d(0.01, -0.01, 0.005));
+  return ppcr::align(core_test::transformed(target, T.inverse()), target, o);
+}
+
+}  // namespace
+
+TEST_CASE("degenerate directions with the plane model: a plane 3, the scene 0", "[registration]") {
+  Rng rng(8);
+  PointCloud plane;
+  for (int i = 0; i < 3000; ++i) {
+    plane.emplace_back(core_test::uniform(rng, -1, 1), core_test::uniform(rng, -1, 1), 0.0);
+  }
+  const RegistrationResult rp = plane_model_run(plane);
+  INFO("plane: " << describe(rp));
+  CHECK(rp.status.ok());
+  CHECK(rp.degenerate_directions == 3);
+  const RegistrationResult rs = plane_model_run(make_scene(0, 3000, true).target);
+  INFO("scene: " << describe(rs));
+  CHECK(rs.status.ok());
+  CHECK(rs.degenerate_directions == 0);
+}
+
+// A cylinder leaves two motions free (translation along and rotation about its axis); their
+// eigenvalues are ~3e-4 of the largest with PCA normals, under the 1e-2 threshold.
+TEST_CASE("degenerate directions with the plane model: a cylinder 2", "[registration]") {
+  Rng rng(9);
+  PointCloud cylinder;
+  for (int i = 0; i < 3000; ++i) {
+    const double a = core_test::uniform(rng, 0.0, 2.0 * core_test::kPi);
+    cylinder.emplace_back(0.5 * std::cos(a), 0.5 * std::sin(a), core_test::uniform(rng, -1, 1));
+  }
+  const RegistrationResult rc = plane_model_run(cylinder);
+  INFO("cylinder: " << describe(rc));
+  CHECK(rc.status.ok());
+  CHECK(rc.degenerate_directions == 2);
+}
+
+TEST_CASE("the plane model recovers the pose on the synthetic scene", "[registration]") {
+  const Scene sc = make_scene(3000, 20000, false);
+  RegistrationOptions o = scene_options();
+  o.error_model = ppcr::ErrorModel::kPlane;
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+  INFO(describe(r) << " rotation error " << rotation_error_deg(r.T_target_source, sc.T_true)
+                   << " translation error "
+                   << ppcr::translation_error(r.T_target_source, sc.T_true));
+  REQUIRE(r.status.ok());
+  CHECK(r.converged());
+  CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.1);
+  CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);
+}
+
+TEST_CASE("on_iteration sees every record and can cancel", "[registration]") {
+  const Scene sc = make_scene(0, 1500, true);
+  RegistrationOptions o = scene_options();
+  std::vector<ppcr::IterationRecord> seen;
+  o.on_iteration = [&](const ppcr::IterationRecord& r) {
+    seen.push_back(r);
+    return true;
+  };
+  const RegistrationResult all = ppcr::align(sc.source, sc.target, o);
+  REQUIRE(all.status.ok());
+  REQUIRE(seen.size() == all.history.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    CHECK(seen[i].iteration == all.history[i].iteration);
+    CHECK(seen[i].T_target_source.matrix() == all.history[i].T_target_source.matrix());
+    CHECK(seen[i].final_cost == all.history[i].final_cost);
+  }
+  // Cancel after the third iteration; without a history the callback still runs.
+  int calls = 0;
+  o.record_history = false;
+  o.on_iteration = [&](const ppcr::IterationRecord& r) {
+    ++calls;
+    return r.iteration < 3;
+  };
+  const RegistrationResult cut = ppcr::align(sc.source, sc.target, o);
+  CHECK(calls == 3);
+  CHECK(cut.iterations == 3);
+  CHECK(cut.stop_reason == StopReason::kCancelled);
+  CHECK(cut.status.ok());
+  CHECK_FALSE(cut.converged());
+  CHECK(cut.history.empty());
+  CHECK(cut.T_target_source.matrix() == all.history[2].T_target_source.matrix());
+}

@@ -1,0 +1,75 @@
+// Tests of detail::compute_normals (PCA normals of the target, plane error model) against the
+// exact normals of analytic surfaces.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "core_test_util.hpp"
+#include "kdtree.hpp"
+#include "target_normals.hpp"
+
+using core_test::Rng;
+using ppcr::PointCloud;
+
+namespace {
+
+std::vector<Eigen::Vector3d> normals_of(const PointCloud& cloud, int k, int threads) {
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(cloud).ok());
+  std::vector<Eigen::Vector3d> normals;
+  ppcr::detail::compute_normals(cloud, tree, k, threads, &normals);
+  REQUIRE(normals.size() == cloud.size());
+  return normals;
+}
+
+}  // namespace
+
+TEST_CASE("normals of a plane are its normal, up to sign", "[target_normals]") {
+  Rng rng(131);
+  const Eigen::Vector3d n = core_test::random_unit_vector(rng);
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  const Eigen::Vector3d origin(3.0, -2.0, 10.0);
+  PointCloud plane;
+  for (int i = 0; i < 3000; ++i) {
+    plane.push_back(origin + core_test::uniform(rng, -1, 1) * u +
+                    core_test::uniform(rng, -1, 1) * v);
+  }
+  for (int k : {5, 20, 64}) {
+    const std::vector<Eigen::Vector3d> normals = normals_of(plane, k, 1);
+    double worst = 0.0;
+    for (const Eigen::Vector3d& m : normals) {
+      CHECK(std::abs(m.norm() - 1.0) < 1e-12);
+      worst = std::max(worst, 1.0 - std::abs(m.dot(n)));
+    }
+    INFO("k " << k << ": worst 1 - |cos| = " << worst);
+    CHECK(worst < 1e-10);
+  }
+}
+
+TEST_CASE("normals of a sphere are nearly radial", "[target_normals]") {
+  Rng rng(132);
+  const Eigen::Vector3d c(0.5, 0.2, -0.1);
+  PointCloud sphere;
+  for (int i = 0; i < 5000; ++i) sphere.push_back(c + core_test::random_unit_vector(rng));
+  const std::vector<Eigen::Vector3d> normals = normals_of(sphere, 20, 1);
+  double worst_deg = 0.0;
+  for (std::size_t i = 0; i < sphere.size(); ++i) {
+    const double cos_a = std::abs(normals[i].dot((sphere[i] - c).normalized()));
+    worst_deg = std::max(worst_deg, std::acos(std::min(1.0, cos_a)) * 180.0 / core_test::kPi);
+  }
+  INFO("worst angle to the radial direction " << worst_deg << " deg");
+  // Neighbourhoods of 20 points span ~0.13 rad: the PCA normal is within a few degrees.
+  CHECK(worst_deg < 10.0);
+}
+
+TEST_CASE("fewer than 5 points: zero normals", "[target_normals]") {
+  const PointCloud four = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                           Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0)};
+  for (const Eigen::Vector3d& m : normals_of(four, 20, 1)) CHECK(m == Eigen::Vector3d::Zero());
+}
+
+TEST_CASE("normals are identical with 1 and 2 threads", "[target_normals]") {
+  Rng rng(133);
+  const PointCloud scene = core_test::analytic_scene(rng, 6000);
+  CHECK(normals_of(scene, 20, 1) == normals_of(scene, 20, 2));
+}
