@@ -197,7 +197,12 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source, const Poi
     Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
     for (std::size_t m = 0; m < assoc.count[j]; ++m) {
       const Eigen::Vector3d& nk = normals[assoc.index[slot + m]];
-      Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
+      // A target point without a normal constrains all directions (Omega = I).
+      if (nk.squaredNorm() > 0.0) {
+        Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
+      } else {
+        Obar.diagonal().array() += w[slot + m];
+      }
     }
     const Eigen::Matrix3d P = se3::skew(T * source[j]);
     H.topLeftCorner<3, 3>().noalias() -= P * Obar * P;

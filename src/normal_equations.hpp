@@ -72,9 +72,10 @@ class NormalEquations {
                 double* w_new, double* r_sq, int num_threads, Evaluation* out,
                 const PlaneModel* plane = nullptr);
 
-  /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights: the information of the
-  /// surface-normal part of the plane model alone (no epsilon), whose null directions are the
-  /// motions the target's geometry leaves unconstrained. Serial; once per registration.
+  /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
+  /// for a target point without a normal): the information of the surface-normal part of the
+  /// plane model alone (no epsilon), whose null directions are the motions the target's geometry
+  /// leaves unconstrained. Serial; once per registration.
   static Matrix6d normal_information(const PointCloud& source, const PointCloud& target,
                                      const AssociationTable& assoc, const Eigen::Isometry3d& T,
                                      const double* w, const std::vector<Eigen::Vector3d>& normals);

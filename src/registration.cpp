@@ -186,6 +186,9 @@ Status validate(const RegistrationOptions& o) {
       return invalid("plane.epsilon must be in (0, 1], got " + num(o.plane.epsilon));
     }
   }
+  if (!non_negative(o.reassociate_motion)) {
+    return invalid("reassociate_motion must be >= 0, got " + num(o.reassociate_motion));
+  }
   if (!non_negative(o.source_voxel)) {
     return invalid("source_voxel must be >= 0, got " + num(o.source_voxel));
   }
@@ -341,7 +344,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // Lengths the LM step tolerance, the coarse E-step scale and the motion guards are relative
   // to: the radius, unless the radius exceeds the source's extent (a radius of 1e6 m on a 2 m
   // cloud means "no radius", not "steps of 0.1 m are negligible").
-  const double reference_length = std::min(o.radius, std::sqrt(extent_sq));
+  const double source_extent = std::sqrt(extent_sq);
+  const double reference_length = std::min(o.radius, source_extent);
   const Eigen::Isometry3d to_target = translation(m.target_origin);
   const Eigen::Isometry3d from_source = translation(-source_origin);
   auto to_external = [&](const Eigen::Isometry3d& T) { return to_target * T * from_source; };
@@ -364,16 +368,30 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   problem.weights.dof = o.weights.dof;
   problem.num_threads = o.num_threads;
   problem.step_reference = reference_length;
-  problem.source_extent = std::sqrt(extent_sq);
+  problem.source_extent = source_extent;
 
   detail::ScaleSchedule scale(o.weights, reference_length);  // E-step scale s (weights.hpp)
   const double radius_sq = o.radius * o.radius;
 
   using Clock = std::chrono::steady_clock;
   StopReason reason = StopReason::kNone;
+  Eigen::Isometry3d T_associated = T;  // pose of the last association
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
-    detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
+    // Association (paper Sec. 3.1), unless no source point can have moved more than
+    // reassociate_motion x radius since the last one: a point x moves by
+    // |(R - R_a) x + (t - t_a)| <= |R - R_a|_2 |x| + |t - t_a|, |R - R_a|_2 = 2 sin(angle / 2).
+    bool reassociate = t == 1 || o.reassociate_motion <= 0.0;
+    if (!reassociate) {
+      const Eigen::AngleAxisd rotation(T.linear() * T_associated.linear().transpose());
+      const double bound = 2.0 * std::sin(0.5 * std::abs(rotation.angle())) * source_extent +
+                           (T.translation() - T_associated.translation()).norm();
+      reassociate = !(bound <= o.reassociate_motion * reference_length);
+    }
+    if (reassociate) {
+      detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
+      T_associated = T;
+    }
     result.matched_source_points = m.assoc.matched;
     result.correspondences = m.assoc.pairs;
     if (m.assoc.pairs == 0) {

@@ -35,7 +35,12 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     eig.computeDirect(C / n);
     const Eigen::Vector3d normal = eig.eigenvectors().col(0);
-    if (normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
+    // A normal exists only where the neighbourhood spreads in two directions: for collinear
+    // (lambda_1 ~ 0) or identical points the smallest eigenvector is an arbitrary direction,
+    // and the point keeps a zero normal (Omega = I, point-to-point).
+    const Eigen::Vector3d lambda = eig.eigenvalues();
+    const bool has_plane = lambda[1] > 1e-6 * lambda[2];
+    if (has_plane && normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
       (*normals)[static_cast<std::size_t>(i)] = normal;
     }
   });

@@ -12,7 +12,8 @@ namespace detail {
 
 /// Fits a plane (PCA: the eigenvector of the smallest eigenvalue of the neighbourhood's
 /// covariance) to the `neighbours` nearest points of each target point, in parallel. normals[i]
-/// is a unit vector, or zero when fewer than 5 points were found. Allocation-free per point.
+/// is a unit vector, or zero when fewer than 5 points were found or they do not spread in two
+/// directions (middle eigenvalue <= 1e-6 of the largest). Allocation-free per point.
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals);
 

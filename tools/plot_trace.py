@@ -11,7 +11,7 @@ oracle's ideal stop (tools/termination_study.py: oracle_stop). Grey bands: itera
 the E-step scale was still settling (coarse phase or shrinking at its limit), when the
 adaptive criteria do not count.
 
-Usage: plot_trace.py TRACE.csv [-o OUT.png] [--title T]
+Usage: plot_trace.py TRACE.csv [-o OUT.png] [--title T] [--radius R] [--motion-guard F]
 Exit status 0, or 1 with a one-line error on stderr.
 """
 
@@ -79,6 +79,11 @@ def main(argv):
     p.add_argument("--oracle-absolute", type=float, default=0.0,
                    help="oracle ideal stop: absolute tolerance, RMS in cloud units "
                         "(default 0)")
+    p.add_argument("--radius", type=float, default=1.0,
+                   help="the run's --radius (the motion guard is relative to it; default 1)")
+    p.add_argument("--motion-guard", type=float, default=ts.DEFAULT_MOTION_GUARD,
+                   help="the --motion-guard of the replayed cost-drop criteria (default "
+                        f"{ts.DEFAULT_MOTION_GUARD}, the library's; 0 = the paper's rule)")
     p.add_argument("--dpi", type=int, default=72)
     a = p.parse_args(argv)
     out = a.out or (os.path.splitext(a.trace)[0] + ".png")
@@ -95,7 +100,8 @@ def main(argv):
     gt = ts.has_ground_truth(tr)
     stops = []
     for label, spec, colour, style in CRITERIA:
-        t, _ = ts.simulate_stop(tr, spec, settling)
+        t, _ = ts.simulate_stop(tr, dict(spec, motion_guard=a.motion_guard), settling,
+                                a.radius)
         if t is not None and t < n:
             stops.append((t, label, colour, style))
     stops.append((n, f"run stopped ({n})", "black", "-"))

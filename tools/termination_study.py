@@ -110,17 +110,21 @@ def settling_mask(trace, scale_mode="auto"):
     return mask
 
 
+# The library's default --motion-guard (TerminationCriteria::cost_drop_max_motion).
+DEFAULT_MOTION_GUARD = 0.02
+
+
 def simulate_stop(trace, spec, settling, radius=1.0):
     """The iteration at which a criterion set would have stopped on this trajectory (the monitor
     of src/termination.cpp, replayed), or None if it would not have stopped within the trace.
     spec keys: criteria (set of 'fixed','cost-drop','mse-prev','successful-steps'),
     fixed (iterations), max_iterations, cd_threshold, cd_patience, motion_guard (fraction of
-    radius), mse_ratio, mse_patience, steps_threshold, steps_patience.
+    radius; default DEFAULT_MOTION_GUARD, the library's; 0 = the paper's rule), mse_ratio, mse_patience, steps_threshold, steps_patience.
     Returns (iteration, reason)."""
     c = spec.get("criteria", {"cost-drop"})
     thr = spec.get("cd_threshold", 0.01)
     pat = spec.get("cd_patience", 10)
-    guard = spec.get("motion_guard", 0.0)
+    guard = spec.get("motion_guard", DEFAULT_MOTION_GUARD)
     ratio = spec.get("mse_ratio", 2.0)
     mpat = spec.get("mse_patience", 3)
     sthr = spec.get("steps_threshold", 1)
@@ -659,10 +663,12 @@ def commands_section(path, figdir):
 def pick_examples(runs, traces, rel):
     """Lidar traces for the figures: (a) the raw-mode problem where the paper's cost drop hurt
     most (real runs: its error over raw fixed 100's), (b) the default-trajectory problem the
-    oracle needs longest for. Returns [(trace path, png name, title)]."""
+    oracle needs longest for. Returns [(trace path, png name, title, radius, scale mode,
+    motion guard of the run)]."""
     picks = []
-    cd = next((r for r in runs if r["set"] == "lidar" and r["model"] == "point"
-               and r["variant"] == "cost drop 1 % x 10 (raw)"), None)
+    cd = next((r for m in ("point", "plane") for r in runs if r["set"] == "lidar"
+               and r["model"] == m and r["mode"] == "raw" and "authors' rule" in r["variant"]),
+              None)
     if cd is not None:
         ref = reference_of(runs, cd)
         fam = traces.family_run(cd)
@@ -671,11 +677,14 @@ def pick_examples(runs, traces, rel):
             worst = max(cd["rows"], key=lambda x: float(x["error"]) / fixed[x["id"]])
             picks.append((os.path.join(fam["tracedir"], worst["id"] + ".csv"),
                           "trace_lidar_raw_early_stop.png",
-                          f"lidar problem {worst['id']}, raw mode (the authors'), point, 100 "
+                          f"lidar problem {worst['id']}, raw mode (the authors'), "
+                          f"{cd['model']}, 100 "
                           f"iterations: the paper's cost drop stopped at {worst['iterations']} "
-                          f"(error {float(worst['error']):.3g} vs {fixed[worst['id']]:.3g})"))
-    fam = next((r for r in runs if r["set"] == "lidar" and r["model"] == "point"
-                and r["family"] == "default" and r["tracedir"] != "-"), None)
+                          f"(error {float(worst['error']):.3g} vs {fixed[worst['id']]:.3g})",
+                          1.0, "raw", 0.0))
+    fam = next((r for m in ("point", "plane") for r in runs if r["set"] == "lidar"
+                and r["model"] == m and r["family"] == "default" and r["tracedir"] != "-"),
+               None)
     if fam is not None:
         best = None
         for row in fam["rows"]:
@@ -688,8 +697,9 @@ def pick_examples(runs, traces, rel):
         if best is not None:
             picks.append((os.path.join(fam["tracedir"], best[1] + ".csv"),
                           "trace_lidar_point_slowest.png",
-                          f"lidar problem {best[1]}, default (EM) mode, point, 100 iterations: "
-                          f"the latest oracle ideal stop of the set ({best[0]})"))
+                          f"lidar problem {best[1]}, default (EM) mode, {fam['model']}, 100 "
+                          f"iterations: the latest oracle ideal stop of the set ({best[0]})",
+                          1.0, "em", DEFAULT_MOTION_GUARD))
     return picks
 
 
@@ -747,12 +757,15 @@ def cmd_figures(a):
                "90": "a further 45 degrees (Figure 6a)",
                "180": "a further 135 degrees (Figure 6b)"}[c["case"]]
         jobs.append((c["trace"], f"trace_bunny{c['case']}_{c['model']}.png",
-                     f"bun045 onto bun000, {mis}, {c['model']} model, 100 iterations"))
+                     f"bun045 onto bun000, {mis}, {c['model']} model, 100 iterations",
+                     0.02, "em", DEFAULT_MOTION_GUARD))
     jobs += pick_examples(runs, traces, a.oracle_relative)
     os.makedirs(a.images, exist_ok=True)
-    for trace, png, title in jobs:
+    for trace, png, title, radius, mode, guard in jobs:
         r = subprocess.run([sys.executable, a.plot, trace, "-o", os.path.join(a.images, png),
-                            "--title", title, "--oracle-relative", str(a.oracle_relative)],
+                            "--title", title, "--oracle-relative", str(a.oracle_relative),
+                            "--radius", str(radius), "--scale-mode", mode,
+                            "--motion-guard", str(guard)],
                            capture_output=True, text=True)
         if r.returncode != 0:
             raise StudyError(f"plot_trace.py {trace}: {r.stderr.strip()}")

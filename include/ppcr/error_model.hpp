@@ -8,7 +8,8 @@
 //  surface by epsilon only, so the registration no longer has to drag points along a surface to
 //  their sampled counterparts (the bias and slow creep of point-to-point errors on scans), while
 //  epsilon keeps every direction weakly constrained. Target points whose neighbourhood is too
-//  small (fewer than 5 points) keep Omega_k = I. Why n n^T + epsilon I rather than GICP's
+//  small (fewer than 5 points) or not a surface (collinear or identical points: the middle
+//  eigenvalue of its covariance below 1e-6 of the largest) keep Omega_k = I. Why n n^T + epsilon I rather than GICP's
 //  inverse regularised covariance: the same surface-aligned metric with one scalar to tune, an
 //  information matrix that is never singular, and 4 numbers per target point instead of 6.
 //  The Mahalanobis r_kj replaces |e_kj|^2 everywhere: in the E-step weights, the cost, the EM

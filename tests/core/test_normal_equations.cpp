@@ -495,7 +495,8 @@ TEST_CASE("plane model without normals is the point model", "[normal_equations]"
   }
 }
 
-TEST_CASE("normal_information equals the naive sum of w J^T n n^T J", "[normal_equations]") {
+TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a normal)",
+          "[normal_equations]") {
   const Problem pb = make_problem(69, 400, 5, 0.15);
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 70);
   Rng rng(71);
@@ -507,7 +508,10 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J", "[normal_e
     const Jacobian J = analytic_jacobian(pb.T * pb.source[j]);
     for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
       const Eigen::Vector3d& n = normals[pb.assoc.index[j * k + m]];
-      ref += w[j * k + m] * J.transpose() * (n * n.transpose()) * J;
+      // A target point without a normal (zero) counts with Omega = I.
+      const Eigen::Matrix3d nnT =
+          n.squaredNorm() > 0.0 ? Eigen::Matrix3d(n * n.transpose()) : Eigen::Matrix3d::Identity();
+      ref += w[j * k + m] * J.transpose() * nnT * J;
     }
   }
   const Matrix6d got =

@@ -68,6 +68,21 @@ TEST_CASE("fewer than 5 points: zero normals", "[target_normals]") {
   for (const Eigen::Vector3d& m : normals_of(four, 20, 1)) CHECK(m == Eigen::Vector3d::Zero());
 }
 
+TEST_CASE("collinear or identical points: zero normals (no surface to fit)", "[target_normals]") {
+  Rng rng(134);
+  const Eigen::Vector3d dir = core_test::random_unit_vector(rng);
+  PointCloud line, same(50, Eigen::Vector3d(1.0, -2.0, 0.5));
+  for (int i = 0; i < 200; ++i) line.push_back(core_test::uniform(rng, -1, 1) * dir);
+  for (const Eigen::Vector3d& m : normals_of(line, 20, 1)) CHECK(m == Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3d& m : normals_of(same, 20, 1)) CHECK(m == Eigen::Vector3d::Zero());
+  // A thin but two-dimensional strip (1e-3 wide) still has its normal.
+  PointCloud strip;
+  for (int i = 0; i < 400; ++i) {
+    strip.emplace_back(core_test::uniform(rng, -1, 1), core_test::uniform(rng, -1e-3, 1e-3), 0.0);
+  }
+  for (const Eigen::Vector3d& m : normals_of(strip, 20, 1)) CHECK(std::abs(m.z()) > 1.0 - 1e-9);
+}
+
 TEST_CASE("normals are identical with 1 and 2 threads", "[target_normals]") {
   Rng rng(133);
   const PointCloud scene = core_test::analytic_scene(rng, 6000);

@@ -71,6 +71,10 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
   app.add_option("--coarse-patience", f->coarse_patience,
                  "EM scale: settled iterations ending the coarse phase (default " +
                      std::to_string(f->coarse_patience) + ")");
+  app.add_option("--reassociate-motion", f->reassociate_motion,
+                 "re-associate only when a source point may have moved more than this fraction "
+                 "of the radius since the last association (default " +
+                     str(f->reassociate_motion) + "; 0 = every iteration, the paper)");
   app.add_option("--source-voxel", f->source_voxel,
                  "voxel-grid leaf for the source, cloud units (default 0 = off)");
   app.add_option("--target-voxel", f->target_voxel,
@@ -149,6 +153,10 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     return bad("--coarse-patience", std::to_string(f.coarse_patience), "expected >= 0");
   }
   o->weights.em_coarse_patience = f.coarse_patience;
+  if (!(std::isfinite(f.reassociate_motion) && f.reassociate_motion >= 0.0)) {
+    return bad("--reassociate-motion", str(f.reassociate_motion), "expected a number >= 0");
+  }
+  o->reassociate_motion = f.reassociate_motion;
   o->source_voxel = f.source_voxel;
   o->target_voxel = f.target_voxel;
   o->num_threads = f.threads;

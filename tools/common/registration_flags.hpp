@@ -33,6 +33,7 @@ struct RegistrationFlags {
       ppcr::TerminationCriteria()
           .cost_drop_max_motion;  // cost-drop / coarse-phase motion guard (fraction of radius)
   int coarse_patience = ppcr::WeightOptions().em_coarse_patience;
+  double reassociate_motion = ppcr::RegistrationOptions().reassociate_motion;
   double source_voxel = 0.0;
   double target_voxel = 0.0;
   int threads = 1;
