@@ -8,7 +8,7 @@
 # makes one: -DPPCR_BUILD_TOOLS=ON -DPPCR_BUILD_BENCHMARKS=ON). Needs ../shared/data (or
 # $PPCR_DATA_DIR), /usr/bin/time and python3 with matplotlib for the scaling plot.
 #   PERF_REPEAT=3      repetitions of each single registration (the median is reported)
-#   PERF_LIMIT=20      benchmark problems per set for the end-to-end timings
+#   PERF_LIMIT=50      benchmark problems per set for the end-to-end timings
 #   PERF_SIZES="16:1024 64:2048 128:8192"   synthetic street scans, beams:steps
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -17,7 +17,7 @@ build=${1:-build/test-release}
 out=${2:-build/perf}
 data=${PPCR_DATA_DIR:-$root/../shared/data}
 repeat=${PERF_REPEAT:-3}
-limit=${PERF_LIMIT:-20}
+limit=${PERF_LIMIT:-50}
 sizes=${PERF_SIZES:-16:1024 64:2048 128:8192}
 cli=$build/tools/ppcr_cli
 bench=$build/tools/bench/ppcr_bench
@@ -66,20 +66,22 @@ echo "== end-to-end: ppcr_bench, first $limit problems per set, 1 and 2 threads"
 {
   echo "## End to end (ppcr_bench, first $limit problems, defaults, benchmark protocol)"
   echo
-  echo "| set | threads | median ms | max ms | median error | mean iterations |"
-  echo "|---|---|---|---|---|---|"
+  echo "| set | options | threads | median ms | max ms | median error | q0.95 error | mean iterations | CPU s (whole run) |"
+  echo "|---|---|---|---|---|---|---|---|---|"
 } >>"$md"
 for s in bunny lidar; do
   case $s in
     bunny) proto="--radius 0.02 --source-voxel 0.002 --target-voxel 0.002" ;;
     lidar) proto="--radius 1 --source-voxel 0.2 --target-voxel 0.2" ;;
   esac
-  for t in 1 2; do
+  for run in "defaults|1|" "defaults|2|" "--reassociate-motion 0.05|1|--reassociate-motion 0.05"; do
+    IFS='|' read -r name t extra <<<"$run"
+    tag="bench_${s}_t${t}_${extra//[^0-9a-z]/}"
     # shellcheck disable=SC2086
-    "$bench" "$data/benchmark/${s}_local.txt" $proto --threads "$t" --limit "$limit" --quiet \
-      --json >"$out/bench_${s}_t$t.json"
-    "$py" -c "import json,sys; d=json.load(open(sys.argv[1])); print(f\"| $s | $t | {d['median_ms']:.1f} | {d['max_ms']:.1f} | {d['median']:.5f} | {d['mean_iterations']:.1f} |\")" \
-      "$out/bench_${s}_t$t.json" >>"$md"
+    /usr/bin/time -f "%U %S" -o "$out/$tag.cpu" "$bench" "$data/benchmark/${s}_local.txt" $proto \
+      $extra --threads "$t" --limit "$limit" --quiet --json >"$out/$tag.json"
+    "$py" -c "import json,sys; d=json.load(open(sys.argv[1])); c=sum(map(float, open(sys.argv[2]).read().split())); print(f\"| $s | $name | $t | {d['median_ms']:.1f} | {d['max_ms']:.1f} | {d['median']:.5f} | {d['q95']:.5f} | {d['mean_iterations']:.1f} | {c:.1f} |\")" \
+      "$out/$tag.json" "$out/$tag.cpu" >>"$md"
   done
 done
 
