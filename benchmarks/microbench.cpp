@@ -5,6 +5,7 @@
 // Sizes: N source points (argument), target = N points of the same surface, k = 10.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "association.hpp"
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
+#include "neighbour_cache.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
@@ -80,6 +82,37 @@ void BM_Associate(benchmark::State& state) {
     benchmark::DoNotOptimize(table.pairs);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+// Association through the neighbour cache (k + extra candidates) while the pose drifts by
+// step_um micrometres and a milliradian-scale rotation per call: the late outer iterations of a
+// registration. extra = 0 re-queries every point (the cache is invalidated on every call).
+void BM_AssociateCached(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  const int extra = static_cast<int>(state.range(1));
+  const double step = 1e-6 * static_cast<double>(state.range(2));
+  const ppcr::PointCloud target = surface(n, 1), source = surface(n, 2);
+  ppcr::detail::KdTree tree;
+  (void)tree.build(target);
+  ppcr::detail::AssociationTable table;
+  table.resize(n, kNeighbours);
+  ppcr::detail::NeighbourCache cache;
+  cache.resize(n, kNeighbours + std::max(extra, 0));
+  ppcr::se3::Vector6d drift;
+  drift << step, -step, step, step, step, -step;
+  Eigen::Isometry3d T = small_motion();
+  std::size_t queries = 0, calls = 0;
+  for (auto _ : state) {
+    if (extra == 0) cache.invalidate();
+    T = ppcr::se3::exp(drift) * T;
+    ppcr::detail::associate_cached(tree, target, source, T, kRadius, 1, &cache, &table);
+    queries += cache.last_queries;
+    ++calls;
+    benchmark::DoNotOptimize(table.pairs);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.counters["queried"] =
+      static_cast<double>(queries) / static_cast<double>(calls * n);  // fraction re-queried
 }
 
 void BM_EStepOnePoint(benchmark::State& state) {
@@ -168,6 +201,12 @@ void BM_Registration(benchmark::State& state) {
 BENCHMARK(BM_KdTreeBuild)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RadiusKnnQuery)->Arg(10000)->Arg(100000);
 BENCHMARK(BM_Associate)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AssociateCached)
+    ->Args({10000, 0, 10})
+    ->Args({10000, 8, 10})
+    ->Args({10000, 8, 100})
+    ->Args({10000, 8, 1000})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EStepOnePoint);
 BENCHMARK(BM_NormalEquations)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);

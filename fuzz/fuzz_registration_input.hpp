@@ -217,7 +217,7 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   o.termination.successful_steps_patience = (in.u8() + 3) % 8;
   o.termination.successful_steps_threshold = (in.u8() + 1) % 8;
   o.weights.em_coarse_patience = (in.u8() + 10) % 16;
-  o.weights.em_min_shrink = ((in.u8() + 127) % 256 + 1) / 256.0;
+  o.weights.em_min_shrink = ((in.u8() + 63) % 256 + 1) / 256.0;  // 0 -> 0.25, the default
   o.termination.cost_drop_threshold = 0.01 * in.positive();
   const double cd_motion = in.positive(), em_motion = in.positive(), em_min = in.positive();
   const double src_voxel = in.positive(), tgt_voxel = in.positive();

@@ -20,6 +20,7 @@
 #include "association.hpp"
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
+#include "neighbour_cache.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/voxel.hpp"
 #include "scale_schedule.hpp"
@@ -186,6 +187,9 @@ Status validate(const RegistrationOptions& o) {
       return invalid("plane.epsilon must be in (0, 1], got " + num(o.plane.epsilon));
     }
   }
+  if (o.neighbour_cache < 0) {
+    return invalid("neighbour_cache must be >= 0, got " + std::to_string(o.neighbour_cache));
+  }
   if (!non_negative(o.reassociate_motion)) {
     return invalid("reassociate_motion must be >= 0, got " + num(o.reassociate_motion));
   }
@@ -263,6 +267,7 @@ struct Registration::Impl {
   PointCloud source_filtered, source_centered;
   std::vector<double> scratch;
   detail::AssociationTable assoc;
+  detail::NeighbourCache cache;  // candidate lists for exact incremental association
   detail::LMSolver lm;
 };
 
@@ -354,6 +359,10 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // Set-up allocations (reused when the next source has the same size).
   const int k = o.max_neighbours;
   m.assoc.resize(n, k);
+  const int cache_capacity = k + o.neighbour_cache;
+  const bool use_cache =
+      o.neighbour_cache > 0 && cache_capacity <= detail::NeighbourCache::kMaxCapacity;
+  if (use_cache) m.cache.resize(n, cache_capacity);  // also forgets the previous source's lists
   m.lm.resize(n, k);
   const CloudMoments moments = compute_moments(src);
   TerminationMonitor monitor(o.termination, moments, T_initial);
@@ -389,7 +398,12 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       reassociate = !(bound <= o.reassociate_motion * reference_length);
     }
     if (reassociate) {
-      detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
+      if (use_cache) {
+        detail::associate_cached(m.tree, m.target_centered, m.source_centered, T, o.radius,
+                                 o.num_threads, &m.cache, &m.assoc);
+      } else {
+        detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
+      }
       T_associated = T;
     }
     result.matched_source_points = m.assoc.matched;

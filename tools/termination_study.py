@@ -83,12 +83,13 @@ def has_ground_truth(trace):
     return g is not None and np.all(np.isfinite(g)) and np.all(g >= 0)
 
 
-def settling_mask(trace, scale_mode="auto"):
+def settling_mask(trace, scale_mode="auto", shrink=None):
     """Which iterations the monitor saw as scale_settling (src/registration.cpp,
     src/scale_schedule.cpp), reconstructed from the trace's scale column:
       EM: iteration t settles while its scale is still the coarse one (every iteration up to the
-          last one run at the initial scale), or when its scale is exactly sqrt(em_min_shrink =
-          0.5) times the previous one (the shrink limit was hit by the EM estimate).
+          last one run at the initial scale), or when its scale is exactly sqrt(shrink) times the
+          previous one (the shrink limit was hit by the EM estimate; shrink = --scale-shrink,
+          the library's WeightOptions::em_min_shrink by default).
       raw / fixed scale: never.
     scale_mode 'auto': raw when every scale is exactly 1, else EM (the default mode). A fixed
     scale or a coarse phase that never ends both give a constant scale: pass 'fixed' / 'em'."""
@@ -105,10 +106,14 @@ def settling_mask(trace, scale_mode="auto"):
     last_coarse = (changed[0] - 1) if len(changed) else n - 1
     mask[: last_coarse + 1] = True
     for i in range(last_coarse + 1, n):
-        if i > 0 and abs(s[i] ** 2 - 0.5 * s[i - 1] ** 2) <= 1e-9 * s[i - 1] ** 2:
+        f = DEFAULT_SCALE_SHRINK if shrink is None else shrink
+        if i > 0 and abs(s[i] ** 2 - f * s[i - 1] ** 2) <= 1e-9 * s[i - 1] ** 2:
             mask[i] = True
     return mask
 
+
+# The library's default --scale-shrink (WeightOptions::em_min_shrink).
+DEFAULT_SCALE_SHRINK = 0.25
 
 # The library's default --motion-guard (TerminationCriteria::cost_drop_max_motion).
 DEFAULT_MOTION_GUARD = 0.02

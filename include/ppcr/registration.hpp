@@ -44,6 +44,12 @@ struct RegistrationOptions {
   /// stop: it stopped a point-model lidar run in the 1.2 degree local minimum and a line
   /// 2.4 cm short. Hence off by default.
   double reassociate_motion = 0.0;
+  /// Extra candidates kept per source point for exact incremental association (k + this many
+  /// nearest target points within 1.25 x radius, re-ranked at each association; a point is
+  /// re-queried only when its list cannot prove the answer: src/neighbour_cache.hpp). The
+  /// associations are those of a fresh k-d tree query either way; 0 = query every point in every
+  /// iteration. Used only when k + this <= 256.
+  int neighbour_cache = 8;
   double source_voxel = 0.0;   // voxel leaf for the source, cloud units (0 = no filtering)
   double target_voxel = 0.0;   // voxel leaf for the target, cloud units (0 = no filtering)
   int num_threads = 1;         // threads for association and reductions (>= 1; the result

@@ -56,8 +56,10 @@ struct WeightOptions {
   double em_coarse_max_motion = 0.02;  // kEM phase 1: if > 0, an iteration counts toward
                                        // em_coarse_patience only when it moved the source by
                                        // less than this fraction of the radius (RMS)
-  double em_min_shrink = 0.5;          // kEM phase 2: s^2 shrinks by at most this factor per outer
-                                       // iteration (0 < f <= 1)
+  double em_min_shrink = 0.25;         // kEM phase 2: s^2 shrinks by at most this factor per outer
+                                       // iteration (0 < f <= 1). 0.25 (was 0.5): 18 % fewer
+                                       // iterations on the bunny set, errors within 0.5 %
+                                       // (docs/TERMINATION.md, section 8)
   double em_min_scale = 0.0;           // kEM phase 2: floor on s, cloud units (0 = none)
 };
 

@@ -97,6 +97,7 @@ std::vector<BadOption> bad_options() {
       {"max_neighbours 0", [](O& o) { o.max_neighbours = 0; }, {"max_neighbours", "0"}},
       {"max_neighbours -3", [](O& o) { o.max_neighbours = -3; }, {"max_neighbours", "-3"}},
       {"max_neighbours 1025", [](O& o) { o.max_neighbours = 1025; }, {"max_neighbours", "1025"}},
+      {"neighbour_cache -1", [](O& o) { o.neighbour_cache = -1; }, {"neighbour_cache", "-1"}},
       {"dof 0", [](O& o) { o.weights.dof = 0.0; }, {"dof", "0"}},
       {"dof -2", [](O& o) { o.weights.dof = -2.0; }, {"dof", "-2"}},
       {"dof NaN", [](O& o) { o.weights.dof = kNaN; }, {"dof", "nan"}},

@@ -60,6 +60,7 @@ TEST_CASE("EM coarse phase: held until more than patience low drops", "[scale_sc
   o.em_coarse_drop = 0.01;
   o.em_coarse_patience = 3;
   o.em_coarse_motion = 1e-3;
+  o.em_min_shrink = 0.5;
   ScaleSchedule s(o, 1.0);
   // Large motion (no "still" exit), low drops: held for 3, settles at the 4th.
   for (int i = 0; i < 3; ++i) {
@@ -142,6 +143,7 @@ TEST_CASE("EM coarse phase with em_coarse_max_motion: moving iterations do not c
   o.em_coarse_patience = 1;
   o.em_coarse_motion = 1e-6;      // no "still" exit in this script
   o.em_coarse_max_motion = 0.25;  // of the radius 2: motions below 0.5 count
+  o.em_min_shrink = 0.5;
   ScaleSchedule s(o, 2.0);
   s.update(0.0, 0.75, 0.01);  // low drop but moving: not counted
   s.update(0.0, 0.5, 0.01);   // exactly the limit: not counted

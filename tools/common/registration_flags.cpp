@@ -71,6 +71,15 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
   app.add_option("--coarse-patience", f->coarse_patience,
                  "EM scale: settled iterations ending the coarse phase (default " +
                      std::to_string(f->coarse_patience) + ")");
+  app.add_option("--scale-shrink", f->scale_shrink,
+                 "EM scale: s^2 shrinks by at most this factor per outer iteration, in (0, 1] "
+                 "(default " +
+                     str(f->scale_shrink) + ")");
+  app.add_option("--neighbour-cache", f->neighbour_cache,
+                 "extra candidates kept per source point for exact incremental association "
+                 "(default " +
+                     std::to_string(f->neighbour_cache) +
+                     "; 0 = a k-d tree query per point and iteration; same result either way)");
   app.add_option("--reassociate-motion", f->reassociate_motion,
                  "re-associate only when a source point may have moved more than this fraction "
                  "of the radius since the last association (default " +
@@ -153,10 +162,18 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     return bad("--coarse-patience", std::to_string(f.coarse_patience), "expected >= 0");
   }
   o->weights.em_coarse_patience = f.coarse_patience;
+  if (!(f.scale_shrink > 0.0 && f.scale_shrink <= 1.0)) {
+    return bad("--scale-shrink", str(f.scale_shrink), "expected a number in (0, 1]");
+  }
+  o->weights.em_min_shrink = f.scale_shrink;
   if (!(std::isfinite(f.reassociate_motion) && f.reassociate_motion >= 0.0)) {
     return bad("--reassociate-motion", str(f.reassociate_motion), "expected a number >= 0");
   }
   o->reassociate_motion = f.reassociate_motion;
+  if (f.neighbour_cache < 0) {
+    return bad("--neighbour-cache", std::to_string(f.neighbour_cache), "expected >= 0");
+  }
+  o->neighbour_cache = f.neighbour_cache;
   o->source_voxel = f.source_voxel;
   o->target_voxel = f.target_voxel;
   o->num_threads = f.threads;

@@ -33,7 +33,9 @@ struct RegistrationFlags {
       ppcr::TerminationCriteria()
           .cost_drop_max_motion;  // cost-drop / coarse-phase motion guard (fraction of radius)
   int coarse_patience = ppcr::WeightOptions().em_coarse_patience;
+  double scale_shrink = ppcr::WeightOptions().em_min_shrink;  // EM: s^2 shrink limit per iteration
   double reassociate_motion = ppcr::RegistrationOptions().reassociate_motion;
+  int neighbour_cache = ppcr::RegistrationOptions().neighbour_cache;
   double source_voxel = 0.0;
   double target_voxel = 0.0;
   int threads = 1;
@@ -42,7 +44,7 @@ struct RegistrationFlags {
 /// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --criterion,
 /// --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
 /// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --motion-guard,
-/// --coarse-patience, --source-voxel, --target-voxel, --threads.
+/// --coarse-patience, --scale-shrink, --neighbour-cache, --source-voxel, --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// Validates the flags and fills options. The message names the flag and the value seen.

@@ -1,0 +1,65 @@
+// neighbour_cache.hpp - exact incremental association: the k nearest target points within the
+// radius, re-ranked from a per-point candidate list and re-queried only where that list cannot
+// prove the answer.
+//
+// For source point j the cache holds the K = capacity nearest target points to q_j (the point's
+// position when they were searched) within the candidate radius r_c (> r), and a bound B_j such
+// that every target point NOT in the list is at least B_j from q_j:
+//   B_j = distance of the K-th candidate when K were found, else r_c (the list is every point
+//   within r_c).
+// At a new position p_j with delta_j = |p_j - q_j|, every uncached point is at least
+// B_j - delta_j from p_j (triangle inequality). Re-ranking the candidates by their distance to
+// p_j gives the k nearest within r among them; let D_j be the k-th distance, or r when fewer
+// than k are within r. If D_j < B_j - delta_j, no uncached point can be among the true k nearest
+// within r, so the re-ranked list IS the answer of a fresh radius-limited kNN query (up to the
+// order of exactly tied distances). Otherwise the point is re-queried (K candidates within r_c
+// around p_j) and re-ranked. Either way the table equals a fresh association.
+//
+// Cost: a re-rank reads K target points (~100 ns for K = 18) against a k-d tree query
+// (~800 ns); late outer iterations move points by a small fraction of the neighbour spacing,
+// so almost every point is re-ranked (docs/PERFORMANCE.md).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "association.hpp"
+#include "kdtree.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+struct NeighbourCache {
+  /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
+  int capacity = 0;
+  double candidate_radius = 0.0;      // r_c, cloud units
+  std::vector<std::uint32_t> index;   // capacity slots per source point
+  std::vector<std::uint16_t> count;   // candidates held (<= capacity)
+  std::vector<double> query;          // q_j: 3 per source point
+  std::vector<double> bound;          // B_j, cloud units; < 0 = no list yet
+  std::vector<std::uint8_t> queried;  // 1 if the last associate_cached re-queried point j
+  std::size_t last_queries = 0;       // k-d tree queries made by the last associate_cached
+
+  static constexpr int kMaxCapacity = 256;
+  /// r_c = kRadiusMargin * r: a point near the edge of the data keeps its (incomplete) list
+  /// until it has moved (kRadiusMargin - 1) * r.
+  static constexpr double kRadiusMargin = 1.25;
+
+  /// Sizes the cache for source_points points and capacity candidates each, and empties it.
+  void resize(std::size_t source_points, int capacity);
+  /// Forgets every list (the next associate_cached queries every point).
+  void invalidate();
+};
+
+/// As associate() (association.hpp), with the cache: same table, fewer k-d tree queries. The
+/// cache must be sized for source.size() points with capacity >= table->k, and be invalidated
+/// when the tree, the target, the source or the radius changes. Allocation-free. The result does
+/// not depend on the thread count.
+void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
+                      const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
+                      NeighbourCache* cache, AssociationTable* table);
+
+}  // namespace detail
+}  // namespace ppcr

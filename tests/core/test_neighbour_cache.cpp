@@ -1,0 +1,196 @@
+// Tests of detail::associate_cached: along sequences of poses (small and large motions, points
+// near the edge of the data, points with no neighbour), the table equals a brute-force
+// radius-limited kNN of every transformed source point, it does not depend on the thread count,
+// and the k-d tree is queried only where the candidate lists cannot prove the answer.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "association.hpp"
+#include "core_test_util.hpp"
+#include "kdtree.hpp"
+#include "neighbour_cache.hpp"
+#include "ppcr/registration.hpp"
+
+using core_test::Rng;
+using ppcr::PointCloud;
+using ppcr::detail::AssociationTable;
+using ppcr::detail::KdTree;
+using ppcr::detail::NeighbourCache;
+
+namespace {
+
+// "" if the table holds, for every source point, the brute-force k nearest target points within
+// the radius (same count, same distances in order, indices consistent with the distances).
+std::string brute_force_mismatch(const AssociationTable& table, const PointCloud& source,
+                                 const PointCloud& target, const Eigen::Isometry3d& T,
+                                 double radius) {
+  const std::size_t k = static_cast<std::size_t>(table.k);
+  std::vector<double> in_range;
+  std::size_t pairs = 0;
+  for (std::size_t j = 0; j < source.size(); ++j) {
+    const Eigen::Vector3d p = T * source[j];
+    in_range.clear();
+    for (const Eigen::Vector3d& y : target) {
+      const double d = (y - p).squaredNorm();
+      if (d <= radius * radius) in_range.push_back(d);
+    }
+    std::sort(in_range.begin(), in_range.end());
+    const std::size_t expected = std::min(in_range.size(), k);
+    std::ostringstream why;
+    why << "source point " << j << ": ";
+    if (table.count[j] != expected) {
+      why << "count " << table.count[j] << ", brute force " << expected;
+      return why.str();
+    }
+    pairs += expected;
+    for (std::size_t m = 0; m < expected; ++m) {
+      const std::uint32_t idx = table.index[j * k + m];
+      if (idx >= target.size()) return why.str() + "index out of range";
+      const double d = (target[idx] - p).squaredNorm();
+      if (std::abs(d - in_range[m]) > 1e-12 * (1.0 + d)) {
+        why << "slot " << m << ": distance " << d << ", brute force " << in_range[m];
+        return why.str();
+      }
+    }
+  }
+  if (table.pairs != pairs) return "pairs " + std::to_string(table.pairs);
+  return "";
+}
+
+// A sequence of poses: a large jump, a slow drift (each step a fraction of the neighbour
+// spacing), a jump back, and a repeated pose.
+std::vector<Eigen::Isometry3d> pose_sequence(Rng& rng) {
+  std::vector<Eigen::Isometry3d> poses;
+  Eigen::Isometry3d T =
+      core_test::make_pose(Eigen::Vector3d(0, 0, 1), 0.3, Eigen::Vector3d(0.1, 0.0, -0.05));
+  poses.push_back(T);
+  for (int i = 0; i < 12; ++i) {
+    T = core_test::make_pose(core_test::random_unit_vector(rng), 0.004,
+                             0.004 * core_test::random_unit_vector(rng)) *
+        T;
+    poses.push_back(T);
+  }
+  poses.push_back(poses.back());
+  poses.push_back(
+      core_test::make_pose(Eigen::Vector3d(1, 0, 0), -0.5, Eigen::Vector3d(-0.3, 0.2, 0.1)));
+  poses.push_back(poses.front());
+  return poses;
+}
+
+}  // namespace
+
+TEST_CASE("associate_cached equals brute force along a sequence of poses", "[association]") {
+  Rng rng(51);
+  const PointCloud target = core_test::uniform_cloud(rng, 3000, -1.0, 1.0);
+  // Wider than the target: points near and beyond its edge have short or empty lists.
+  const PointCloud source = core_test::uniform_cloud(rng, 1200, -1.3, 1.3);
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  for (int k : {1, 6, 15}) {
+    for (int extra : {1, 8}) {
+      for (double radius : {0.08, 0.2}) {
+        NeighbourCache cache;
+        cache.resize(source.size(), k + extra);
+        AssociationTable table;
+        table.resize(source.size(), k);
+        for (std::size_t i = 0; i < poses.size(); ++i) {
+          ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
+          INFO("k " << k << " extra " << extra << " radius " << radius << " pose " << i);
+          REQUIRE(brute_force_mismatch(table, source, target, poses[i], radius) == "");
+          if (i == 0) CHECK(cache.last_queries == source.size());  // an empty cache queries all
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("associate_cached queries only where the lists cannot prove the answer",
+          "[association]") {
+  Rng rng(52);
+  const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
+  const PointCloud source = core_test::uniform_cloud(rng, 1000, -0.8, 0.8);  // interior
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  NeighbourCache cache;
+  cache.resize(source.size(), 18);
+  AssociationTable table;
+  table.resize(source.size(), 10);
+  const Eigen::Isometry3d T0 = Eigen::Isometry3d::Identity();
+  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == source.size());
+  // The same pose again: every list proves itself (delta = 0, and the 10th neighbour is closer
+  // than the 18th unless they tie, which random points do not).
+  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == 0u);
+  // A motion far below the neighbour spacing (~0.06 here): few queries, same answer.
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
+  T1.translation() = Eigen::Vector3d(1e-4, 0.0, 0.0);
+  ppcr::detail::associate_cached(tree, target, source, T1, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries < source.size() / 10);
+  CHECK(brute_force_mismatch(table, source, target, T1, 0.3) == "");
+  // A motion larger than the whole candidate radius: every point is re-queried.
+  Eigen::Isometry3d T2 = Eigen::Isometry3d::Identity();
+  T2.translation() = Eigen::Vector3d(0.5, 0.0, 0.0);
+  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == source.size());
+  CHECK(brute_force_mismatch(table, source, target, T2, 0.3) == "");
+  // invalidate() forgets the lists.
+  cache.invalidate();
+  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == source.size());
+}
+
+TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads", "[association]") {
+  Rng rng(53);
+  const PointCloud target = core_test::uniform_cloud(rng, 20000, -1.0, 1.0);
+  const PointCloud source = core_test::uniform_cloud(rng, 15000, -1.1, 1.1);
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  NeighbourCache c1, c2;
+  c1.resize(source.size(), 18);
+  c2.resize(source.size(), 18);
+  AssociationTable t1, t2;
+  t1.resize(source.size(), 10);
+  t2.resize(source.size(), 10);
+  for (const Eigen::Isometry3d& T : poses) {
+    ppcr::detail::associate_cached(tree, target, source, T, 0.1, 1, &c1, &t1);
+    ppcr::detail::associate_cached(tree, target, source, T, 0.1, 2, &c2, &t2);
+    CHECK(c1.last_queries == c2.last_queries);
+    CHECK(t1.count == t2.count);
+    CHECK(t1.index == t2.index);
+    CHECK(t1.pairs == t2.pairs);
+    CHECK(t1.matched == t2.matched);
+  }
+}
+
+TEST_CASE("registration with and without the neighbour cache gives the same pose",
+          "[association][registration]") {
+  Rng rng(54);
+  const PointCloud target = core_test::analytic_scene(rng, 6000);
+  const Eigen::Isometry3d T_true =
+      core_test::make_pose(Eigen::Vector3d(0.3, -0.5, 1.0), core_test::deg2rad(10.0),
+                           Eigen::Vector3d(0.04, -0.03, 0.02));
+  const PointCloud source =
+      core_test::transformed(core_test::analytic_scene(rng, 2500), T_true.inverse());
+  for (ppcr::ErrorModel model : {ppcr::ErrorModel::kPlane, ppcr::ErrorModel::kPoint}) {
+    ppcr::RegistrationOptions o;
+    o.radius = 0.2;
+    o.error_model = model;
+    o.neighbour_cache = 0;
+    const ppcr::RegistrationResult plain = ppcr::align(source, target, o);
+    o.neighbour_cache = 8;
+    const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
+    REQUIRE(plain.status.ok());
+    REQUIRE(cached.status.ok());
+    CHECK(plain.iterations == cached.iterations);
+    CHECK(plain.correspondences == cached.correspondences);
+    CHECK((plain.T_target_source.matrix() - cached.T_target_source.matrix()).cwiseAbs().maxCoeff() <
+          1e-12);
+    CHECK((cached.T_target_source.linear() - T_true.linear()).norm() < 1e-2);
+  }
+}
