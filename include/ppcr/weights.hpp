@@ -59,7 +59,7 @@ struct WeightOptions {
   double em_min_shrink = 0.25;         // kEM phase 2: s^2 shrinks by at most this factor per outer
                                        // iteration (0 < f <= 1). 0.25 (was 0.5): 18 % fewer
                                        // iterations on the bunny set, errors within 0.5 %
-                                       // (docs/TERMINATION.md, section 8)
+                                       // (docs/TERMINATION.md, section 9)
   double em_min_scale = 0.0;           // kEM phase 2: floor on s, cloud units (0 = none)
 };
 
