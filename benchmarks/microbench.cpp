@@ -85,8 +85,9 @@ void BM_Associate(benchmark::State& state) {
 }
 
 // Association through the neighbour cache (k + extra candidates) while the pose drifts by
-// step_um micrometres and a milliradian-scale rotation per call: the late outer iterations of a
-// registration. extra = 0 re-queries every point (the cache is invalidated on every call).
+// step_um micrometres along and step_um microradians about each axis per call: the late outer
+// iterations of a registration. extra = 0 re-queries every point (the cache is invalidated on every
+// call).
 void BM_AssociateCached(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
   const int extra = static_cast<int>(state.range(1));

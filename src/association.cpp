@@ -14,6 +14,14 @@ void AssociationTable::resize(std::size_t source_points, int neighbours) {
   pairs = matched = 0;
 }
 
+void AssociationTable::recount() {
+  pairs = matched = 0;
+  for (std::uint16_t c : count) {
+    pairs += c;
+    matched += (c > 0);
+  }
+}
+
 void associate(const KdTree& target_tree, const PointCloud& source,
                const Eigen::Isometry3d& T_target_source, double radius_sq, int num_threads,
                AssociationTable* table) {
@@ -26,14 +34,7 @@ void associate(const KdTree& target_tree, const PointCloud& source,
     table->count[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(
         target_tree.radius_knn(p, k, radius_sq, &table->index[slot], &table->dist_sq[slot]));
   });
-  // Integer totals: exact in any order.
-  std::size_t pairs = 0, matched = 0;
-  for (std::uint16_t c : table->count) {
-    pairs += c;
-    matched += (c > 0);
-  }
-  table->pairs = pairs;
-  table->matched = matched;
+  table->recount();
 }
 
 }  // namespace detail

@@ -25,6 +25,8 @@ struct AssociationTable {
   static constexpr int kMaxNeighbours = 1024;
 
   void resize(std::size_t source_points, int neighbours);
+  /// Sets pairs and matched from count (integer sums: exact in any order).
+  void recount();
 };
 
 /// Fills table for the source points moved by T_target_source (both in the frames the tree and

@@ -38,7 +38,7 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   capacity = new_capacity;
   index.resize(source_points * static_cast<std::size_t>(new_capacity));
   count.resize(source_points);
-  query.resize(3 * source_points);
+  query.resize(source_points);
   bound.resize(source_points);
   queried.resize(source_points);
   invalidate();
@@ -66,11 +66,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     std::uint32_t* out_idx = &table->index[slot];
     double* out_d = &table->dist_sq[slot];
     std::uint32_t* cand = &cache->index[cslot];
-    double* q = &cache->query[3 * j];
     const Eigen::Vector3d p = R * source[j] + t;
     cache->queried[j] = 0;
     if (cache->bound[j] >= 0.0) {
-      const double delta = (p - Eigen::Vector3d(q[0], q[1], q[2])).norm();
+      const double delta = (p - cache->query[j]).norm();
       const int n = rerank(target, p, cand, cache->count[j], k, radius_sq, out_idx, out_d);
       const double kth = n == k ? std::sqrt(out_d[k - 1]) : radius;
       if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
@@ -78,27 +77,21 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         return;
       }
     }
-    // Re-query: the K nearest within r_c around p (their distances go to a stack buffer).
+    // Re-query: the K nearest within r_c around p (their distances go to a stack buffer), then
+    // the same re-rank as a cache hit, so that the table's distances and tie order never depend
+    // on which path a point took.
     double cand_d[NeighbourCache::kMaxCapacity];
     const int found = target_tree.radius_knn(p, capacity, candidate_radius_sq, cand, cand_d);
     cache->count[j] = static_cast<std::uint16_t>(found);
     cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;
-    q[0] = p.x();
-    q[1] = p.y();
-    q[2] = p.z();
+    cache->query[j] = p;
     cache->queried[j] = 1;
     table->count[j] =
         static_cast<std::uint16_t>(rerank(target, p, cand, found, k, radius_sq, out_idx, out_d));
   });
-  // Integer totals: exact in any order.
-  std::size_t pairs = 0, matched = 0, queries = 0;
-  for (std::size_t j = 0; j < source.size(); ++j) {
-    pairs += table->count[j];
-    matched += table->count[j] > 0;
-    queries += cache->queried[j];
-  }
-  table->pairs = pairs;
-  table->matched = matched;
+  table->recount();
+  std::size_t queries = 0;
+  for (std::uint8_t q : cache->queried) queries += q;
   cache->last_queries = queries;
 }
 

@@ -15,9 +15,10 @@
 // order of exactly tied distances). Otherwise the point is re-queried (K candidates within r_c
 // around p_j) and re-ranked. Either way the table equals a fresh association.
 //
-// Cost: a re-rank reads K target points (~100 ns for K = 18) against a k-d tree query
-// (~800 ns); late outer iterations move points by a small fraction of the neighbour spacing,
-// so almost every point is re-ranked (docs/PERFORMANCE.md).
+// Cost: a re-ranked point takes ~120 ns for K = 18 against ~820 ns for a k-d tree query
+// (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer iterations move points by a
+// small fraction of the neighbour spacing, so almost every point is re-ranked
+// (docs/PERFORMANCE.md).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -34,10 +35,9 @@ namespace detail {
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
   int capacity = 0;
-  double candidate_radius = 0.0;      // r_c, cloud units
   std::vector<std::uint32_t> index;   // capacity slots per source point
   std::vector<std::uint16_t> count;   // candidates held (<= capacity)
-  std::vector<double> query;          // q_j: 3 per source point
+  PointCloud query;                   // q_j, the tree's frame
   std::vector<double> bound;          // B_j, cloud units; < 0 = no list yet
   std::vector<std::uint8_t> queried;  // 1 if the last associate_cached re-queried point j
   std::size_t last_queries = 0;       // k-d tree queries made by the last associate_cached

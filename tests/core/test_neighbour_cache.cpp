@@ -2,63 +2,25 @@
 // near the edge of the data, points with no neighbour), the table equals a brute-force
 // radius-limited kNN of every transformed source point, it does not depend on the thread count,
 // and the k-d tree is queried only where the candidate lists cannot prove the answer.
-#include <algorithm>
 #include <catch2/catch.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "association.hpp"
+#include "association_reference.hpp"
 #include "core_test_util.hpp"
 #include "kdtree.hpp"
 #include "neighbour_cache.hpp"
 #include "ppcr/registration.hpp"
 
 using core_test::Rng;
+using core_test::table_mismatch;
 using ppcr::PointCloud;
 using ppcr::detail::AssociationTable;
 using ppcr::detail::KdTree;
 using ppcr::detail::NeighbourCache;
 
 namespace {
-
-// "" if the table holds, for every source point, the brute-force k nearest target points within
-// the radius (same count, same distances in order, indices consistent with the distances).
-std::string brute_force_mismatch(const AssociationTable& table, const PointCloud& source,
-                                 const PointCloud& target, const Eigen::Isometry3d& T,
-                                 double radius) {
-  const std::size_t k = static_cast<std::size_t>(table.k);
-  std::vector<double> in_range;
-  std::size_t pairs = 0;
-  for (std::size_t j = 0; j < source.size(); ++j) {
-    const Eigen::Vector3d p = T * source[j];
-    in_range.clear();
-    for (const Eigen::Vector3d& y : target) {
-      const double d = (y - p).squaredNorm();
-      if (d <= radius * radius) in_range.push_back(d);
-    }
-    std::sort(in_range.begin(), in_range.end());
-    const std::size_t expected = std::min(in_range.size(), k);
-    std::ostringstream why;
-    why << "source point " << j << ": ";
-    if (table.count[j] != expected) {
-      why << "count " << table.count[j] << ", brute force " << expected;
-      return why.str();
-    }
-    pairs += expected;
-    for (std::size_t m = 0; m < expected; ++m) {
-      const std::uint32_t idx = table.index[j * k + m];
-      if (idx >= target.size()) return why.str() + "index out of range";
-      const double d = (target[idx] - p).squaredNorm();
-      if (std::abs(d - in_range[m]) > 1e-12 * (1.0 + d)) {
-        why << "slot " << m << ": distance " << d << ", brute force " << in_range[m];
-        return why.str();
-      }
-    }
-  }
-  if (table.pairs != pairs) return "pairs " + std::to_string(table.pairs);
-  return "";
-}
 
 // A sequence of poses: a large jump, a slow drift (each step a fraction of the neighbour
 // spacing), a jump back, and a repeated pose.
@@ -100,7 +62,7 @@ TEST_CASE("associate_cached equals brute force along a sequence of poses", "[ass
         for (std::size_t i = 0; i < poses.size(); ++i) {
           ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
           INFO("k " << k << " extra " << extra << " radius " << radius << " pose " << i);
-          REQUIRE(brute_force_mismatch(table, source, target, poses[i], radius) == "");
+          REQUIRE(table_mismatch(table, source, target, poses[i], radius * radius) == "");
           if (i == 0) CHECK(cache.last_queries == source.size());  // an empty cache queries all
         }
       }
@@ -131,13 +93,13 @@ TEST_CASE("associate_cached queries only where the lists cannot prove the answer
   T1.translation() = Eigen::Vector3d(1e-4, 0.0, 0.0);
   ppcr::detail::associate_cached(tree, target, source, T1, 0.3, 1, &cache, &table);
   CHECK(cache.last_queries < source.size() / 10);
-  CHECK(brute_force_mismatch(table, source, target, T1, 0.3) == "");
+  CHECK(table_mismatch(table, source, target, T1, 0.3 * 0.3) == "");
   // A motion larger than the whole candidate radius: every point is re-queried.
   Eigen::Isometry3d T2 = Eigen::Isometry3d::Identity();
   T2.translation() = Eigen::Vector3d(0.5, 0.0, 0.0);
   ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
   CHECK(cache.last_queries == source.size());
-  CHECK(brute_force_mismatch(table, source, target, T2, 0.3) == "");
+  CHECK(table_mismatch(table, source, target, T2, 0.3 * 0.3) == "");
   // invalidate() forgets the lists.
   cache.invalidate();
   ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
