@@ -9,7 +9,8 @@
 //               bit4 two threads, bit5 no history, bit6 target = source moved by T_gt (+ extra
 //               target points), bit7 on_iteration cancels after the 2nd iteration
 //   flags1 u8   bit0 explicit EM coarse scale, bit1 cost_drop_max_motion, bit2
-//               em_coarse_max_motion, bit3 em_min_scale, bit4 source voxel, bit5 target voxel
+//               em_coarse_max_motion, bit3 em_min_scale, bit4 source voxel, bit5 target voxel,
+//               bit6 plane.source_normals
 //   criteria u8 (low 4 bits XOR kCriterionCostDrop), max_iterations u8, fixed_iterations u8,
 //   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> 10; 240..255 ->
 //   32 .. 1024), radius pos, dof pos (times 5), scale pos, plane.epsilon u8, normal_neighbours
@@ -212,6 +213,7 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   if (o.weights.scale_mode == ppcr::ScaleMode::kFixed || (f1 & 1)) o.weights.scale = scale;
   o.plane.epsilon = ((in.u8() + 12) % 256 + 1) / 256.0;
   o.plane.normal_neighbours = 5 + (in.u8() + 15) % 60;
+  o.plane.source_normals = (f1 & 64) != 0;
   o.termination.cost_drop_patience = (in.u8() + 10) % 16;
   o.termination.mse_patience = (in.u8() + 3) % 8;
   o.termination.successful_steps_patience = (in.u8() + 3) % 8;

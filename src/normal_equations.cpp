@@ -33,6 +33,9 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
   const std::vector<Eigen::Vector3d>* normals = kPlane ? plane->normals : nullptr;
+  // Per-slot pair normals (source normals on) replace the target points' normals.
+  const Eigen::Vector3d* pair_normals =
+      kPlane && plane->pair_normals != nullptr ? plane->pair_normals->data() : nullptr;
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
@@ -58,7 +61,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       for (std::size_t m = 0; m < count; ++m) {
         const Eigen::Vector3d e = target[idx[m]] - p;
         if constexpr (kPlane) {
-          const Eigen::Vector3d& nk = (*normals)[idx[m]];
+          const Eigen::Vector3d& nk =
+              pair_normals != nullptr ? pair_normals[slot + m] : (*normals)[idx[m]];
           const double ne = nk.dot(e);
           r[m] = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
         } else {
@@ -79,7 +83,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         double bx = 0.0, by = 0.0, bz = 0.0;
         for (std::size_t m = 0; m < count; ++m) {
           const double u = w[m];
-          const Eigen::Vector3d& nk = (*normals)[idx[m]];
+          const Eigen::Vector3d& nk =
+              pair_normals != nullptr ? pair_normals[slot + m] : (*normals)[idx[m]];
           const Eigen::Vector3d& y = target[idx[m]];
           const double ex = y.x() - p.x(), ey = y.y() - p.y(), ez = y.z() - p.z();
           const double ua = u * omega_isotropic(nk, epsilon);

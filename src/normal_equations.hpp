@@ -12,8 +12,9 @@
 // So each source point adds 16 numbers, not a 6x6 outer product per pair.
 //
 // Plane model (error_model.hpp): r_kj = e^T Omega_k e with Omega_k = a_k I + n_k n_k^T
-// (a_k = epsilon with a normal, 1 without). J_j is still shared by a point's neighbours, so with
-// Obar_j = sum_k w_kj Omega_k and ebar_j = sum_k w_kj Omega_k e_kj:
+// (a_k = epsilon with a normal, 1 without); with source normals n_k is the pair's normal n_kj,
+// a constant of the pass, so the same formulas hold with Omega_kj. J_j is still shared by a point's
+// neighbours, so with Obar_j = sum_k w_kj Omega_k and ebar_j = sum_k w_kj Omega_k e_kj:
 //   H = sum_j J_j^T Obar_j J_j = sum_j [ -[p]_x Obar [p]_x , [p]_x Obar ; -Obar [p]_x , Obar ],
 //   g = sum_j [ ebar_j x p_j ; -ebar_j ]:  one 6x6 term per source point.
 //
@@ -41,10 +42,14 @@ struct WeightParams {
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
-/// The plane error model's per-target-point data (null = point model).
+/// The plane error model's data (null = point model).
 struct PlaneModel {
-  const std::vector<Eigen::Vector3d>* normals = nullptr;  // unit, or zero for "no normal"
+  const std::vector<Eigen::Vector3d>* normals = nullptr;  // per target point: unit, or zero for
+                                                          // "no normal"
   double epsilon = 0.05;                                  // in-plane weight
+  // Optional, per association slot j*k+m (pair_normals.hpp): when set, the pair's normal
+  // replaces its target point's normal in Omega (fixed for the pass: not a function of T).
+  const std::vector<Eigen::Vector3d>* pair_normals = nullptr;
 };
 
 struct Evaluation {

@@ -21,6 +21,7 @@
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
 #include "neighbour_cache.hpp"
+#include "pair_normals.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/voxel.hpp"
 #include "scale_schedule.hpp"
@@ -263,6 +264,10 @@ struct Registration::Impl {
   detail::KdTree tree;
   std::vector<Eigen::Vector3d> target_normals;  // plane model only
   detail::PlaneModel plane;
+  // Plane model with source normals only: the source's k-d tree and normals, one normal per
+  // association slot.
+  detail::KdTree source_tree;
+  std::vector<Eigen::Vector3d> source_normals, pair_normals;
   // Per-alignment buffers, kept between calls so same-size registrations reuse them.
   PointCloud source_filtered, source_centered;
   std::vector<double> scratch;
@@ -364,6 +369,17 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       o.neighbour_cache > 0 && cache_capacity <= detail::NeighbourCache::kMaxCapacity;
   if (use_cache) m.cache.resize(n, cache_capacity);  // also forgets the previous source's lists
   m.lm.resize(n, k);
+  const bool use_pair_normals =
+      o.error_model == ErrorModel::kPlane && o.plane.source_normals && m.plane.normals != nullptr;
+  m.plane.pair_normals = nullptr;
+  if (use_pair_normals) {
+    Status s = m.source_tree.build(m.source_centered);
+    if (!s.ok()) return refuse(s);
+    detail::compute_normals(m.source_centered, m.source_tree, o.plane.normal_neighbours,
+                            o.num_threads, &m.source_normals);
+    m.pair_normals.resize(m.assoc.index.size());
+    m.plane.pair_normals = &m.pair_normals;
+  }
   const CloudMoments moments = compute_moments(src);
   TerminationMonitor monitor(o.termination, moments, T_initial);
   if (o.record_history)
@@ -405,6 +421,11 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
         detail::associate(m.tree, m.source_centered, T, radius_sq, o.num_threads, &m.assoc);
       }
       T_associated = T;
+      // Source normals: each pair's normal, frozen until the next re-association.
+      if (use_pair_normals) {
+        detail::compute_pair_normals(m.assoc, m.target_normals, m.source_normals, T.linear(),
+                                     o.num_threads, &m.pair_normals);
+      }
     }
     result.matched_source_points = m.assoc.matched;
     result.correspondences = m.assoc.pairs;

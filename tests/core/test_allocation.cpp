@@ -61,15 +61,22 @@ TEST_CASE("the outer loop allocates nothing once a Registration has run once", "
   source_b.erase(source_b.begin(), source_b.begin() + 3000);
   REQUIRE(source_b.size() == source_a.size());
 
-  for (ErrorModel model : {ErrorModel::kPoint, ErrorModel::kPlane}) {
+  struct Model {
+    ErrorModel model;
+    bool source_normals;  // builds the source's k-d tree in each align(): not allocation-free
+  };
+  for (const Model& mo : {Model{ErrorModel::kPoint, false}, Model{ErrorModel::kPlane, false},
+                          Model{ErrorModel::kPlane, true}}) {
     for (int threads : {1, 2}) {
-      INFO((model == ErrorModel::kPlane ? "plane" : "point") << ", threads " << threads);
+      INFO((mo.model == ErrorModel::kPlane ? "plane" : "point")
+           << (mo.source_normals ? ", source normals" : "") << ", threads " << threads);
       // Allocations seen by each on_iteration call: the counter's value when it runs.
       std::vector<long> at_iteration;
       at_iteration.reserve(1000);
       RegistrationOptions o;
       o.radius = 0.2;
-      o.error_model = model;
+      o.error_model = mo.model;
+      o.plane.source_normals = mo.source_normals;
       o.num_threads = threads;
       o.record_history = false;
       o.on_iteration = [&](const ppcr::IterationRecord&) {
@@ -90,9 +97,10 @@ TEST_CASE("the outer loop allocates nothing once a Registration has run once", "
         // Between the first and the last outer iteration (association, LM, weights, normal
         // equations, termination, scale): not one allocation.
         CHECK(at_iteration.back() - at_iteration.front() == 0);
-        // The whole call, without a history: nothing either (measured 0 over 73-85 iterations).
+        // The whole call, without a history: nothing either (measured 0 over 73-85 iterations),
+        // except the source's k-d tree with source normals (set-up, before the loop).
         INFO("allocations in align(): " << c.whole << " over " << c.iterations << " iterations");
-        CHECK(c.whole == 0);
+        if (!mo.source_normals) CHECK(c.whole == 0);
       }
     }
   }

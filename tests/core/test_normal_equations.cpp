@@ -117,10 +117,11 @@ Eigen::Matrix3d omega(const Eigen::Vector3d& n, double epsilon) {
   return epsilon * Eigen::Matrix3d::Identity() + n * n.transpose();
 }
 
-// The naive plane-model reference: r = e^T Omega e, one 6x6 term w J^T Omega J per PAIR.
+// The naive plane-model reference: r = e^T Omega e, one 6x6 term w J^T Omega J per PAIR. With
+// pair_normals, slot j*k+m uses its own normal instead of its target point's.
 Reference naive_plane(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T,
                       const double* w_prev, const std::vector<Eigen::Vector3d>& normals,
-                      double epsilon) {
+                      double epsilon, const std::vector<Eigen::Vector3d>* pair_normals = nullptr) {
   const std::size_t k = static_cast<std::size_t>(pb.assoc.k);
   Reference ref;
   ref.w.assign(pb.source.size() * k, 0.0);
@@ -132,7 +133,8 @@ Reference naive_plane(const Problem& pb, const WeightParams& wp, const Eigen::Is
     for (std::size_t m = 0; m < count; ++m) {
       const std::uint32_t y = pb.assoc.index[j * k + m];
       const Eigen::Vector3d e = pb.target[y] - p;
-      ref.r_sq[j * k + m] = e.dot(omega(normals[y], epsilon) * e);
+      const Eigen::Vector3d& n = pair_normals ? (*pair_normals)[j * k + m] : normals[y];
+      ref.r_sq[j * k + m] = e.dot(omega(n, epsilon) * e);
     }
     ppcr::compute_weights(wp.model, wp.dof, wp.inv_scale_sq, &ref.r_sq[j * k], count,
                           &ref.w[j * k]);
@@ -141,7 +143,8 @@ Reference naive_plane(const Problem& pb, const WeightParams& wp, const Eigen::Is
       const std::uint32_t y = pb.assoc.index[j * k + m];
       const double w = ref.w[j * k + m];
       const Eigen::Vector3d e = pb.target[y] - p;
-      const Eigen::Matrix3d O = omega(normals[y], epsilon);
+      const Eigen::Matrix3d O =
+          omega(pair_normals ? (*pair_normals)[j * k + m] : normals[y], epsilon);
       ref.H += w * J.transpose() * O * J;
       ref.g += w * J.transpose() * O * e;
       ref.cost += 0.5 * w * ref.r_sq[j * k + m];
@@ -478,6 +481,51 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
   }
   INFO("H\n" << at.eval.H << "\nnumeric\n" << H_num);
   CHECK(rel_diff(at.eval.H, H_num) < 1e-5);
+}
+
+TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-difference gradient",
+          "[normal_equations]") {
+  const Problem pb = make_problem(71, 600, 6, 0.15);
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 72);
+  // A different normal for every slot (every fifth zero): the pair normals must replace the
+  // target points' normals everywhere.
+  const std::vector<Eigen::Vector3d> pair = random_normals(pb.source.size() * 6, 73);
+  Rng rng(74);
+  std::vector<double> w_prev(pb.source.size() * 6);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
+  ppcr::detail::PlaneModel plane;
+  plane.normals = &normals;
+  plane.epsilon = 0.05;
+  plane.pair_normals = &pair;
+  for (const WeightParams& wp : weight_params()) {
+    const Eigen::Isometry3d T =
+        core_test::make_pose(Eigen::Vector3d(0, 1, 1), 0.03, Eigen::Vector3d(0.01, 0, 0)) * pb.T;
+    const Reference ref = naive_plane(pb, wp, T, w_prev.data(), normals, 0.05, &pair);
+    const Reference target_only = naive_plane(pb, wp, T, w_prev.data(), normals, 0.05);
+    const Output out = run(pb, wp, T, w_prev.data(), 1, &plane);
+    CHECK(rel_diff(out.eval.H, ref.H) < 1e-12);
+    CHECK(rel_diff(out.eval.g, ref.g) < 1e-11);
+    CHECK(std::abs(out.eval.cost - ref.cost) < 1e-12 * ref.cost);
+    CHECK(std::abs(out.eval.cost_prev_weights - ref.cost_prev) < 1e-12 * ref.cost_prev);
+    CHECK(rel_diff(target_only.H, ref.H) > 1e-3);  // the pair normals made a difference
+    const Output two = run(pb, wp, T, w_prev.data(), 2, &plane);
+    CHECK(two.eval.H == out.eval.H);
+    CHECK(two.eval.g == out.eval.g);
+    // g against central differences of the fixed-weight cost (pair normals fixed).
+    const Output at = run(pb, wp, T, nullptr, 1, &plane);
+    auto cost = [&](const Vector6d& d) {
+      return run(pb, wp, ppcr::se3::exp(d) * T, at.w.data(), 1, &plane).eval.cost_prev_weights;
+    };
+    const double h = 1e-6;
+    Vector6d g_num;
+    for (int c = 0; c < 6; ++c) {
+      Vector6d d = Vector6d::Zero();
+      d(c) = h;
+      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
+    }
+    INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
+    CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
+  }
 }
 
 TEST_CASE("plane model without normals is the point model", "[normal_equations]") {

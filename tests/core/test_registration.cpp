@@ -774,6 +774,47 @@ TEST_CASE("the plane model recovers the pose on the synthetic scene", "[registra
   CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);
 }
 
+TEST_CASE("the plane model with source normals recovers the pose on the synthetic scene",
+          "[registration]") {
+  RegistrationOptions o = scene_options();
+  o.error_model = ppcr::ErrorModel::kPlane;
+  o.plane.source_normals = true;
+  SECTION("noise-free, the same points: exact") {
+    const Scene sc = make_scene(0, 3000, true);
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO(describe(r));
+    REQUIRE(r.status.ok());
+    CHECK(r.converged());
+    CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.05);
+    CHECK(rms_error(sc.source, r.T_target_source, sc.T_true) < 1e-3);
+  }
+  SECTION("independent samples of the surfaces") {
+    const Scene sc = make_scene(3000, 20000, false);
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO(describe(r) << " rotation error " << rotation_error_deg(r.T_target_source, sc.T_true)
+                     << " translation error "
+                     << ppcr::translation_error(r.T_target_source, sc.T_true));
+    REQUIRE(r.status.ok());
+    CHECK(r.converged());
+    CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.1);
+    CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);
+    // The option reaches the solver: the result differs from target normals alone.
+    o.plane.source_normals = false;
+    CHECK(ppcr::align(sc.source, sc.target, o).T_target_source.matrix() !=
+          r.T_target_source.matrix());
+  }
+  SECTION("bit-identical with 1 and 2 threads") {
+    const Scene sc = make_scene(2500, 6000, false);
+    o.num_threads = 1;
+    const RegistrationResult one = ppcr::align(sc.source, sc.target, o);
+    o.num_threads = 2;
+    const RegistrationResult two = ppcr::align(sc.source, sc.target, o);
+    REQUIRE(one.status.ok());
+    CHECK(one.T_target_source.matrix() == two.T_target_source.matrix());
+    CHECK(one.iterations == two.iterations);
+  }
+}
+
 TEST_CASE("on_iteration sees every record and can cancel", "[registration]") {
   const Scene sc = make_scene(0, 1500, true);
   RegistrationOptions o = scene_options();

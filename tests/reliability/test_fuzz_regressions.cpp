@@ -60,6 +60,7 @@ TEST_CASE("fuzz input decoder: zero bytes give the library defaults with caps of
   CHECK(o.weights.em_min_shrink == defaults.weights.em_min_shrink);
   CHECK(o.termination.cost_drop_threshold == defaults.termination.cost_drop_threshold);
   CHECK(o.source_voxel == 0.0);
+  CHECK(o.plane.source_normals == defaults.plane.source_normals);
   CHECK(o.num_threads == 1);
   CHECK(o.record_history);
   CHECK(in.source.empty());
@@ -72,6 +73,7 @@ TEST_CASE("fuzz input decoder: the header offsets used by the seed corpus", "[re
   namespace f = ppcr_fuzz;
   Bytes b = header();
   b[f::kFlags0] = 1 | 4 | 16 | 64;  // plane, raw, 2 threads, derived target
+  b[f::kFlags1] = 64;               // source normals
   b[f::kMaxIterations] = 3;
   b[f::kLmMaxIterations] = 5;
   b[f::kMaxNeighbours] = 245;  // 1024
@@ -89,6 +91,7 @@ TEST_CASE("fuzz input decoder: the header offsets used by the seed corpus", "[re
   }
   const f::RegistrationInput in = f::decode_registration_input(b.data(), b.size());
   CHECK(in.options.error_model == ppcr::ErrorModel::kPlane);
+  CHECK(in.options.plane.source_normals);
   CHECK(in.options.weights.scale_mode == ppcr::ScaleMode::kRaw);
   CHECK(in.options.num_threads == 2);
   CHECK(in.options.termination.max_iterations == 3);

@@ -64,6 +64,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
   app.add_option("--normal-neighbours", f->normal_neighbours,
                  "plane model: target points per normal fit (default " +
                      std::to_string(f->normal_neighbours) + ")");
+  app.add_flag("--source-normals", f->source_normals,
+               "plane model: also fit source normals and use each pair's mean normal");
   app.add_option("--motion-guard", f->motion_guard,
                  "an iteration counts as settled (cost-drop criterion and EM coarse phase) only "
                  "if it moved the source by less than this fraction of the radius, RMS (default " +
@@ -153,6 +155,10 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   }
   o->plane.epsilon = f.plane_epsilon;
   o->plane.normal_neighbours = f.normal_neighbours;
+  if (f.source_normals && o->error_model != ppcr::ErrorModel::kPlane) {
+    return bad("--source-normals", "set", "needs --error-model plane, got " + f.error_model);
+  }
+  o->plane.source_normals = f.source_normals;
   if (!(std::isfinite(f.motion_guard) && f.motion_guard >= 0.0)) {
     return bad("--motion-guard", str(f.motion_guard), "expected a number >= 0");
   }

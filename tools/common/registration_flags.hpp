@@ -29,6 +29,7 @@ struct RegistrationFlags {
       ppcr::RegistrationOptions().error_model == ppcr::ErrorModel::kPlane ? "plane" : "point";
   double plane_epsilon = ppcr::PlaneOptions().epsilon;
   int normal_neighbours = ppcr::PlaneOptions().normal_neighbours;
+  bool source_normals = ppcr::PlaneOptions().source_normals;
   double motion_guard =
       ppcr::TerminationCriteria()
           .cost_drop_max_motion;  // cost-drop / coarse-phase motion guard (fraction of radius)
@@ -43,8 +44,9 @@ struct RegistrationFlags {
 
 /// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --criterion,
 /// --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
-/// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --motion-guard,
-/// --coarse-patience, --scale-shrink, --neighbour-cache, --source-voxel, --target-voxel, --threads.
+/// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --source-normals,
+/// --motion-guard, --coarse-patience, --scale-shrink, --neighbour-cache, --source-voxel,
+/// --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// Validates the flags and fills options. The message names the flag and the value seen.

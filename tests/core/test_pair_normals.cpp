@@ -1,0 +1,142 @@
+// Pair normals of the plane model with source normals (pair_normals.hpp), against a reference
+// that picks the sign by comparing both candidate sums instead of by the dot product.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "association.hpp"
+#include "core_test_util.hpp"
+#include "pair_normals.hpp"
+
+namespace {
+
+using core_test::Rng;
+
+// The reference: of n + R m and n - R m, the longer one, normalised (|n +- R m|^2 = 2 +- 2 n.Rm,
+// so the longer one is the sum with the source normal on the target's side).
+Eigen::Vector3d reference(const Eigen::Vector3d& n, const Eigen::Vector3d& m,
+                          const Eigen::Matrix3d& R) {
+  if (n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
+  if (m.squaredNorm() == 0.0) return n;
+  const Eigen::Vector3d plus = n + R * m, minus = n - R * m;
+  return plus.norm() >= minus.norm() ? plus.normalized() : minus.normalized();
+}
+
+struct Case {
+  ppcr::detail::AssociationTable assoc;
+  std::vector<Eigen::Vector3d> target_normals, source_normals;
+  Eigen::Matrix3d R;
+};
+
+// Random table (k 5, counts 0..5) over 300 target points; every seventh target normal and every
+// fifth source normal is zero ("no normal").
+Case make_case(std::uint64_t seed) {
+  Rng rng(seed);
+  Case c;
+  const std::size_t n_source = 800, n_target = 300;
+  const int k = 5;
+  c.assoc.resize(n_source, k);
+  for (std::size_t j = 0; j < n_source; ++j) {
+    const std::size_t count = static_cast<std::size_t>(rng() % (k + 1));
+    c.assoc.count[j] = static_cast<std::uint16_t>(count);
+    for (std::size_t m = 0; m < count; ++m) {
+      c.assoc.index[j * k + m] = static_cast<std::uint32_t>(rng() % n_target);
+    }
+  }
+  c.assoc.recount();
+  c.target_normals.resize(n_target);
+  for (std::size_t i = 0; i < n_target; ++i) {
+    c.target_normals[i] = i % 7 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
+  }
+  c.source_normals.resize(n_source);
+  for (std::size_t j = 0; j < n_source; ++j) {
+    c.source_normals[j] = j % 5 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
+  }
+  c.R =
+      core_test::make_pose(Eigen::Vector3d(0.3, -1.0, 0.4), 0.9, Eigen::Vector3d::Zero()).linear();
+  return c;
+}
+
+std::vector<Eigen::Vector3d> run(const Case& c, int threads) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Eigen::Vector3d> out(c.assoc.index.size(), Eigen::Vector3d::Constant(nan));
+  ppcr::detail::compute_pair_normals(c.assoc, c.target_normals, c.source_normals, c.R, threads,
+                                     &out);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("pair normals equal the reference; unused slots are not written", "[pair_normals]") {
+  const Case c = make_case(301);
+  const std::vector<Eigen::Vector3d> out = run(c, 1);
+  const std::size_t k = static_cast<std::size_t>(c.assoc.k);
+  std::size_t zero_target = 0, zero_source = 0, flipped = 0, unused = 0;
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    for (std::size_t m = 0; m < k; ++m) {
+      const std::size_t slot = j * k + m;
+      if (m >= c.assoc.count[j]) {
+        CHECK(std::isnan(out[slot].x()));
+        ++unused;
+        continue;
+      }
+      const Eigen::Vector3d& n = c.target_normals[c.assoc.index[slot]];
+      const Eigen::Vector3d& s = c.source_normals[j];
+      const Eigen::Vector3d ref = reference(n, s, c.R);
+      INFO("slot " << slot);
+      CHECK((out[slot] - ref).norm() <= 1e-15);
+      if (n.squaredNorm() == 0.0) {
+        ++zero_target;
+        CHECK(out[slot].squaredNorm() == 0.0);
+      } else {
+        CHECK(std::abs(out[slot].norm() - 1.0) < 1e-15);
+        // On the target normal's side, and bisecting the two surfaces' normals.
+        CHECK(out[slot].dot(n) > 0.7);
+        if (s.squaredNorm() == 0.0) {
+          ++zero_source;
+        } else if (n.dot(c.R * s) < 0.0) {
+          ++flipped;
+        }
+      }
+    }
+  }
+  // Every branch was exercised.
+  CHECK(zero_target > 50u);
+  CHECK(zero_source > 50u);
+  CHECK(flipped > 200u);
+  CHECK(unused > 500u);
+}
+
+TEST_CASE("the same surface on both sides gives the target's normal, whatever the sign",
+          "[pair_normals]") {
+  Case c = make_case(302);
+  const std::size_t k = static_cast<std::size_t>(c.assoc.k);
+  // One target point per source point: its normal, brought into the source frame, with a sign
+  // that alternates.
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    if (c.assoc.count[j] == 0) continue;
+    c.assoc.count[j] = 1;
+    const Eigen::Vector3d& n = c.target_normals[c.assoc.index[j * k]];
+    c.source_normals[j] = (j % 2 == 0 ? 1.0 : -1.0) * (c.R.transpose() * n);
+  }
+  c.assoc.recount();
+  const std::vector<Eigen::Vector3d> out = run(c, 1);
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    if (c.assoc.count[j] == 0) continue;
+    const Eigen::Vector3d& n = c.target_normals[c.assoc.index[j * k]];
+    CHECK((out[j * k] - n).norm() <= 1e-15);
+  }
+}
+
+TEST_CASE("pair normals are identical with 1 and 2 threads", "[pair_normals]") {
+  const Case c = make_case(303);
+  const std::vector<Eigen::Vector3d> one = run(c, 1), two = run(c, 2);
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    if (std::isnan(one[i].x())) {
+      CHECK(std::isnan(two[i].x()));
+    } else {
+      CHECK(one[i] == two[i]);
+    }
+  }
+}
