@@ -83,7 +83,7 @@ KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 Status KdTree::build(const PointCloud& points) {
   if (points.size() >= std::numeric_limits<std::uint32_t>::max()) {
     return Status(StatusCode::kInvalidArgument,
-                  "target has " + std::to_string(points.size()) +
+                  "the cloud has " + std::to_string(points.size()) +
                       " points; the k-d tree indexes at most 2^32 - 1");
   }
   impl_->adaptor.points = &points;

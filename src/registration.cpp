@@ -507,6 +507,9 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // directions of a plane 0, of a cylinder 3.1e-4 and 3.5e-4, of a sphere 2.7e-4 to 3.4e-4 (PCA
   // normals of sampled curved surfaces are not exact); the smallest constrained one 0.10 on the
   // bunny, 0.098 on the lidar pair, 0.26 on the cylinder. 1e-2 sits 30x and 10x from both.
+  // Judged on the target's normals also with source normals: the null directions are those the
+  // target's surfaces leave free, whatever normal the pairs use (result.information, from the
+  // solver, does use the pair normals).
   constexpr double kDegenerateRatio = 1e-2;
   result.information = m.lm.last().H;
   if (o.error_model == ErrorModel::kPlane && result.iterations > 0) {

@@ -39,7 +39,8 @@ struct PlaneOptions {
   bool point_while_coarse = false;  // with the EM scale: point-to-point errors during its coarse
                                     // phase (a wider basin far from the solution), plane after
   bool source_normals = false;      // also fit source normals; pairs use the mean normal (above).
-                                    // Costs a source k-d tree per align() (allocates)
+                                    // Costs a source k-d tree per align() (allocates). Like the
+                                    // other plane options, ignored by the point model
 };
 
 }  // namespace ppcr

@@ -803,6 +803,37 @@ TEST_CASE("the plane model with source normals recovers the pose on the syntheti
     CHECK(ppcr::align(sc.source, sc.target, o).T_target_source.matrix() !=
           r.T_target_source.matrix());
   }
+  SECTION("a reused Registration (other sizes) and the cache off give the one-shot pose") {
+    const Scene sc = make_scene(1500, 4000, false);
+    ppcr::Registration reg(o);
+    REQUIRE(reg.set_target(sc.target).ok());
+    const PointCloud smaller(sc.source.begin(), sc.source.begin() + 700);
+    const RegistrationResult r1 = reg.align(sc.source);
+    const RegistrationResult r2 = reg.align(smaller);    // pair normals resized down
+    const RegistrationResult r3 = reg.align(sc.source);  // and back up
+    REQUIRE(r1.status.ok());
+    CHECK(r1.T_target_source.matrix() ==
+          ppcr::align(sc.source, sc.target, o).T_target_source.matrix());
+    CHECK(r2.T_target_source.matrix() ==
+          ppcr::align(smaller, sc.target, o).T_target_source.matrix());
+    CHECK(r3.T_target_source.matrix() == r1.T_target_source.matrix());
+    // Without the neighbour cache: the same associations, so the same pose.
+    o.neighbour_cache = 0;
+    const RegistrationResult plain = ppcr::align(sc.source, sc.target, o);
+    CHECK(plain.iterations == r1.iterations);
+    CHECK((plain.T_target_source.matrix() - r1.T_target_source.matrix()).cwiseAbs().maxCoeff() <
+          1e-12);
+  }
+  SECTION("pair normals kept while re-association is skipped (reassociate_motion)") {
+    const Scene sc = make_scene(3000, 20000, false);
+    o.reassociate_motion = 0.05;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO(describe(r));
+    REQUIRE(r.status.ok());
+    CHECK(r.converged());
+    CHECK(rotation_error_deg(r.T_target_source, sc.T_true) < 0.1);
+    CHECK(ppcr::translation_error(r.T_target_source, sc.T_true) < 2e-3);
+  }
   SECTION("bit-identical with 1 and 2 threads") {
     const Scene sc = make_scene(2500, 6000, false);
     o.num_threads = 1;
