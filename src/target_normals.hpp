@@ -1,4 +1,5 @@
-// target_normals.hpp - per-target-point normals for the plane error model (error_model.hpp).
+// target_normals.hpp - PCA normals of a cloud for the plane error model (error_model.hpp): the
+// target's, and the source's with PlaneOptions::source_normals.
 #pragma once
 
 #include <Eigen/Core>
