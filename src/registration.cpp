@@ -369,8 +369,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       o.neighbour_cache > 0 && cache_capacity <= detail::NeighbourCache::kMaxCapacity;
   if (use_cache) m.cache.resize(n, cache_capacity);  // also forgets the previous source's lists
   m.lm.resize(n, k);
-  const bool use_pair_normals =
-      o.error_model == ErrorModel::kPlane && o.plane.source_normals && m.plane.normals != nullptr;
+  // set_target fitted the target's normals (the error model is fixed per Registration).
+  const bool use_pair_normals = o.error_model == ErrorModel::kPlane && o.plane.source_normals;
   m.plane.pair_normals = nullptr;
   if (use_pair_normals) {
     Status s = m.source_tree.build(m.source_centered);

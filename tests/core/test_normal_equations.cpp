@@ -183,6 +183,18 @@ Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T
   return out;
 }
 
+// Central differences (step h on each twist coordinate) of cost(delta) at delta = 0.
+template <class Cost>
+Vector6d central_gradient(const Cost& cost, double h = 1e-6) {
+  Vector6d g;
+  for (int c = 0; c < 6; ++c) {
+    Vector6d d = Vector6d::Zero();
+    d(c) = h;
+    g(c) = (cost(d) - cost(-d)) / (2.0 * h);
+  }
+  return g;
+}
+
 double rel_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);
 }
@@ -268,13 +280,7 @@ TEST_CASE("g is the central-difference gradient of the cost under fixed weights"
     };
     // At delta = 0 the fixed weights ARE the weights of the pose: both costs agree.
     CHECK(std::abs(cost(Vector6d::Zero()) - at.eval.cost) <= 1e-14 * at.eval.cost);
-    const double h = 1e-6;
-    Vector6d g_num;
-    for (int c = 0; c < 6; ++c) {
-      Vector6d d = Vector6d::Zero();
-      d(c) = h;
-      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
-    }
+    const Vector6d g_num = central_gradient(cost);
     INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
     CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
   }
@@ -434,13 +440,7 @@ TEST_CASE("plane model: g is the central-difference gradient of the fixed-weight
       return run(pb, wp, ppcr::se3::exp(d) * pb.T, at.w.data(), 1, &plane).eval.cost_prev_weights;
     };
     CHECK(std::abs(cost(Vector6d::Zero()) - at.eval.cost) <= 1e-14 * at.eval.cost);
-    const double h = 1e-6;
-    Vector6d g_num;
-    for (int c = 0; c < 6; ++c) {
-      Vector6d d = Vector6d::Zero();
-      d(c) = h;
-      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
-    }
+    const Vector6d g_num = central_gradient(cost);
     INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
     CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
   }
@@ -516,13 +516,7 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
     auto cost = [&](const Vector6d& d) {
       return run(pb, wp, ppcr::se3::exp(d) * T, at.w.data(), 1, &plane).eval.cost_prev_weights;
     };
-    const double h = 1e-6;
-    Vector6d g_num;
-    for (int c = 0; c < 6; ++c) {
-      Vector6d d = Vector6d::Zero();
-      d(c) = h;
-      g_num(c) = (cost(d) - cost(-d)) / (2.0 * h);
-    }
+    const Vector6d g_num = central_gradient(cost);
     INFO("analytic " << at.eval.g.transpose() << "\nnumeric  " << g_num.transpose());
     CHECK(rel_diff(at.eval.g, g_num) < 1e-6);
   }
