@@ -10,7 +10,7 @@
 //               target points), bit7 on_iteration cancels after the 2nd iteration
 //   flags1 u8   bit0 explicit EM coarse scale, bit1 cost_drop_max_motion, bit2
 //               em_coarse_max_motion, bit3 em_min_scale, bit4 source voxel, bit5 target voxel,
-//               bit6 plane.source_normals
+//               bit6 plane.source_normals, bit7 plane.noise_floor (= the em_min_scale value)
 //   criteria u8 (low 4 bits XOR kCriterionCostDrop), max_iterations u8, fixed_iterations u8,
 //   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> 10; 240..255 ->
 //   32 .. 1024), radius pos, dof pos (times 5), scale pos, plane.epsilon u8, normal_neighbours
@@ -226,6 +226,7 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   if (f1 & 2) o.termination.cost_drop_max_motion = cd_motion;
   if (f1 & 4) o.weights.em_coarse_max_motion = em_motion;
   if (f1 & 8) o.weights.em_min_scale = em_min;
+  if (f1 & 128) o.plane.noise_floor = em_min;
   if (f1 & 16) o.source_voxel = src_voxel;
   if (f1 & 32) o.target_voxel = tgt_voxel;
 

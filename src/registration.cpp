@@ -187,6 +187,9 @@ Status validate(const RegistrationOptions& o) {
     if (!(o.plane.epsilon > 0.0 && o.plane.epsilon <= 1.0)) {
       return invalid("plane.epsilon must be in (0, 1], got " + num(o.plane.epsilon));
     }
+    if (!non_negative(o.plane.noise_floor)) {
+      return invalid("plane.noise_floor must be >= 0, got " + num(o.plane.noise_floor));
+    }
   }
   if (o.neighbour_cache < 0) {
     return invalid("neighbour_cache must be >= 0, got " + std::to_string(o.neighbour_cache));
@@ -263,6 +266,7 @@ struct Registration::Impl {
   bool has_target = false;
   detail::KdTree tree;
   std::vector<Eigen::Vector3d> target_normals;  // plane model only
+  double target_surface_noise = 0.0;            // plane model only (target_normals.hpp)
   detail::PlaneModel plane;
   // Plane model with source normals only: the source's k-d tree and normals, one normal per
   // association slot.
@@ -301,8 +305,10 @@ Status Registration::set_target(const PointCloud& target) {
   s = m.tree.build(m.target_centered);
   if (!s.ok()) return s;
   if (m.options.error_model == ErrorModel::kPlane) {
+    std::vector<double> spread;
     detail::compute_normals(m.target_centered, m.tree, m.options.plane.normal_neighbours,
-                            m.options.num_threads, &m.target_normals);
+                            m.options.num_threads, &m.target_normals, &spread);
+    m.target_surface_noise = detail::surface_noise(spread, &scratch);
     m.plane.normals = &m.target_normals;
     m.plane.epsilon = m.options.plane.epsilon;
   }
@@ -395,7 +401,14 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   problem.step_reference = reference_length;
   problem.source_extent = source_extent;
 
-  detail::ScaleSchedule scale(o.weights, reference_length);  // E-step scale s (weights.hpp)
+  // E-step scale s (weights.hpp); with the plane model's noise floor, s >= noise_floor x the
+  // target's surface noise as well as em_min_scale.
+  WeightOptions weights = o.weights;
+  if (o.error_model == ErrorModel::kPlane) {
+    weights.em_min_scale =
+        std::max(weights.em_min_scale, o.plane.noise_floor * m.target_surface_noise);
+  }
+  detail::ScaleSchedule scale(weights, reference_length);
   const double radius_sq = o.radius * o.radius;
 
   using Clock = std::chrono::steady_clock;
@@ -499,6 +512,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   }
   result.stop_reason = reason;
   result.scale = std::sqrt(scale.scale_sq());
+  result.target_surface_noise = o.error_model == ErrorModel::kPlane ? m.target_surface_noise : 0.0;
 
   // Information at the final pose. With the plane model, the directions the surfaces leave
   // free: eigenvalues of the surface-normal information with rotations scaled by the source's

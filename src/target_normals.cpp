@@ -2,6 +2,7 @@
 #include "target_normals.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -11,8 +12,9 @@ namespace ppcr {
 namespace detail {
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals) {
+                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread) {
   normals->assign(points.size(), Eigen::Vector3d::Zero());
+  if (spread != nullptr) spread->assign(points.size(), -1.0);
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   const double unbounded = std::numeric_limits<double>::max();
@@ -42,8 +44,23 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     const bool has_plane = lambda[1] > 1e-6 * lambda[2];
     if (has_plane && normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
       (*normals)[static_cast<std::size_t>(i)] = normal;
+      if (spread != nullptr) {
+        (*spread)[static_cast<std::size_t>(i)] = std::sqrt(std::max(lambda[0], 0.0));
+      }
     }
   });
+}
+
+double surface_noise(const std::vector<double>& spread, std::vector<double>* scratch) {
+  scratch->clear();
+  for (double v : spread) {
+    if (v >= 0.0) scratch->push_back(v);
+  }
+  if (scratch->empty()) return 0.0;
+  // Upper median (a value of the data; the median of an even count would be a mean).
+  const auto middle = scratch->begin() + static_cast<std::ptrdiff_t>(scratch->size() / 2);
+  std::nth_element(scratch->begin(), middle, scratch->end());
+  return *middle;
 }
 
 }  // namespace detail

@@ -15,8 +15,14 @@ namespace detail {
 /// covariance) to the `neighbours` nearest points of each target point, in parallel. normals[i]
 /// is a unit vector, or zero when fewer than 5 points were found or they do not spread in two
 /// directions (middle eigenvalue <= 1e-6 of the largest). Allocation-free per point.
+/// If spread is not null, spread[i] = sqrt(smallest eigenvalue): the RMS distance of the fit's
+/// points from their plane (cloud units), or -1 where normals[i] is zero.
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals);
+                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr);
+
+/// The surface noise of a cloud: the upper median of the spreads >= 0 written by compute_normals
+/// (cloud units), or 0 when no point has a normal. Partially sorts a copy held in *scratch.
+double surface_noise(const std::vector<double>& spread, std::vector<double>* scratch);
 
 }  // namespace detail
 }  // namespace ppcr

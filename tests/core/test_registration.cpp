@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "core_test_util.hpp"
+#include "kdtree.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"
+#include "target_normals.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -168,6 +170,18 @@ std::vector<BadOption> bad_options() {
          o.plane.epsilon = kNaN;
        },
        {"plane.epsilon", "nan"}},
+      {"plane.noise_floor -1",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.noise_floor = -1.0;
+       },
+       {"plane.noise_floor", "-1"}},
+      {"plane.noise_floor NaN",
+       [](O& o) {
+         o.error_model = ppcr::ErrorModel::kPlane;
+         o.plane.noise_floor = kNaN;
+       },
+       {"plane.noise_floor", "nan"}},
       {"cost_drop_max_motion -1",
        [](O& o) { o.termination.cost_drop_max_motion = -1.0; },
        {"cost_drop_max_motion", "-1"}},
@@ -783,6 +797,59 @@ TEST_CASE("the plane model recovers the pose on the synthetic scene", "[registra
   }
   // The option reaches the solver: source normals change the result.
   CHECK(pose[0] != pose[1]);
+}
+
+TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surface noise",
+          "[registration]") {
+  // The scene's surfaces, each point moved by isotropic noise of std 2 mm.
+  Scene sc = make_scene(3000, 20000, false);
+  Rng rng(7);
+  for (PointCloud* cloud : {&sc.source, &sc.target}) {
+    for (Eigen::Vector3d& p : *cloud) {
+      p += Eigen::Vector3d(core_test::gaussian(rng, 0.002), core_test::gaussian(rng, 0.002),
+                           core_test::gaussian(rng, 0.002));
+    }
+  }
+  RegistrationOptions o = scene_options();
+  o.error_model = ppcr::ErrorModel::kPlane;
+  // Reference: the target's surface noise from its own normal fits (the registration fits the
+  // same points shifted by their median, so equal up to rounding).
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(sc.target).ok());
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> spread, scratch;
+  ppcr::detail::compute_normals(sc.target, tree, o.plane.normal_neighbours, 1, &normals, &spread);
+  const double noise = ppcr::detail::surface_noise(spread, &scratch);
+  REQUIRE(noise > 0.0);
+
+  const RegistrationResult free_scale = ppcr::align(sc.source, sc.target, o);
+  REQUIRE(free_scale.status.ok());
+  CHECK(free_scale.target_surface_noise == Approx(noise).epsilon(1e-9));
+  INFO("surface noise " << noise << ", EM scale without a floor " << free_scale.scale);
+  // Without the floor the EM scale ends below 2x the surface noise, so the floor below binds.
+  REQUIRE(free_scale.scale < 2.0 * noise);
+
+  o.plane.noise_floor = 2.0;
+  const RegistrationResult floored = ppcr::align(sc.source, sc.target, o);
+  INFO(describe(floored));
+  REQUIRE(floored.status.ok());
+  CHECK(floored.converged());
+  CHECK(floored.scale == Approx(2.0 * noise).epsilon(1e-12));
+  for (const ppcr::IterationRecord& h : floored.history) CHECK(h.scale >= 2.0 * noise * 0.999);
+  CHECK(rotation_error_deg(floored.T_target_source, sc.T_true) < 0.1);
+  CHECK(ppcr::translation_error(floored.T_target_source, sc.T_true) < 2e-3);
+  // em_min_scale still applies when it is the larger floor.
+  o.weights.em_min_scale = 3.0 * noise;
+  CHECK(ppcr::align(sc.source, sc.target, o).scale == Approx(3.0 * noise).epsilon(1e-12));
+
+  // The point model reports no surface noise and ignores the option.
+  o.error_model = ppcr::ErrorModel::kPoint;
+  o.weights.em_min_scale = 0.0;
+  const RegistrationResult point = ppcr::align(sc.source, sc.target, o);
+  CHECK(point.target_surface_noise == 0.0);
+  o.plane.noise_floor = 0.0;
+  CHECK(ppcr::align(sc.source, sc.target, o).T_target_source.matrix() ==
+        point.T_target_source.matrix());
 }
 
 TEST_CASE("the plane model with source normals recovers the pose on the synthetic scene",

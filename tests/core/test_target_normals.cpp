@@ -1,7 +1,10 @@
 // Tests of detail::compute_normals (PCA normals of the target, plane error model) against the
-// exact normals of analytic surfaces.
+// exact normals of analytic surfaces, and of its spreads and surface_noise against brute force.
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "core_test_util.hpp"
@@ -87,4 +90,64 @@ TEST_CASE("normals are identical with 1 and 2 threads", "[target_normals]") {
   Rng rng(133);
   const PointCloud scene = core_test::analytic_scene(rng, 6000);
   CHECK(normals_of(scene, 20, 1) == normals_of(scene, 20, 2));
+}
+
+TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute force",
+          "[target_normals]") {
+  // A plane with Gaussian noise of std 0.01 along its normal: the spread of every point against an
+  // independent reference (brute-force k nearest, Eigen's iterative eigensolver), and the surface
+  // noise (their upper median) near the noise's std.
+  Rng rng(135);
+  const Eigen::Vector3d n = core_test::random_unit_vector(rng);
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  PointCloud plane;
+  for (int i = 0; i < 2000; ++i) {
+    plane.push_back(core_test::uniform(rng, -1, 1) * u + core_test::uniform(rng, -1, 1) * v +
+                    core_test::gaussian(rng, 0.01) * n);
+  }
+  const int k = 20;
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(plane).ok());
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> spread;
+  ppcr::detail::compute_normals(plane, tree, k, 2, &normals, &spread);
+  REQUIRE(spread.size() == plane.size());
+  std::vector<std::pair<double, std::size_t>> by_distance(plane.size());
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    for (std::size_t m = 0; m < plane.size(); ++m) {
+      by_distance[m] = {(plane[m] - plane[i]).squaredNorm(), m};
+    }
+    std::partial_sort(by_distance.begin(), by_distance.begin() + k, by_distance.end());
+    Eigen::MatrixXd X(k, 3);
+    for (int m = 0; m < k; ++m) X.row(m) = plane[by_distance[m].second].transpose();
+    const Eigen::MatrixXd centred = X.rowwise() - X.colwise().mean();
+    const Eigen::Matrix3d C = centred.transpose() * centred / k;
+    const double lambda_min = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[0];
+    CHECK(spread[i] == Approx(std::sqrt(lambda_min)).epsilon(1e-6));
+  }
+  std::vector<double> scratch;
+  const double noise_level = ppcr::detail::surface_noise(spread, &scratch);
+  // The smallest eigenvalue of 20 points' scatter underestimates the noise's variance (the fitted
+  // plane follows the sample): about (k - 3) / k of it.
+  INFO("surface noise " << noise_level);
+  CHECK(noise_level > 0.007);
+  CHECK(noise_level < 0.011);
+}
+
+TEST_CASE("surface_noise: the upper median of the spreads of points with a normal",
+          "[target_normals]") {
+  std::vector<double> scratch;
+  CHECK(ppcr::detail::surface_noise({}, &scratch) == 0.0);
+  CHECK(ppcr::detail::surface_noise({-1.0, -1.0}, &scratch) == 0.0);
+  CHECK(ppcr::detail::surface_noise({0.3, -1.0, 0.1, 0.2}, &scratch) == 0.2);
+  CHECK(ppcr::detail::surface_noise({0.4, 0.1, -1.0, 0.3, 0.2}, &scratch) == 0.3);
+  // Points without a normal report -1 and are left out.
+  const PointCloud four = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                           Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0)};
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(four).ok());
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> spread;
+  ppcr::detail::compute_normals(four, tree, 20, 1, &normals, &spread);
+  CHECK(spread == std::vector<double>(4, -1.0));
 }

@@ -34,6 +34,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "variance: depends on the data's units), or a fixed value in cloud units");
   app.add_option("--coarse-scale", f->coarse_scale,
                  "EM's coarse scale, cloud units (default 0 = radius / 2)");
+  app.add_option("--min-scale", f->min_scale,
+                 "EM scale: floor on the refined scale s, cloud units (default 0 = none)");
   app.add_option("--criterion", f->criterion,
                  "termination: cost-drop (default), mse-prev, successful-steps, fixed, or a "
                  "comma-separated combination (stops when any fires)");
@@ -66,6 +68,11 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                      std::to_string(f->normal_neighbours) + ")");
   app.add_flag("--source-normals", f->source_normals,
                "plane model: also fit source normals and use each pair's mean normal");
+  app.add_option("--noise-floor", f->noise_floor,
+                 "plane model with the EM scale: the scale never shrinks below this multiple of "
+                 "the target's surface noise (median RMS out-of-plane spread of its normal fits; "
+                 "default " +
+                     str(f->noise_floor) + " = off)");
   app.add_option("--motion-guard", f->motion_guard,
                  "an iteration counts as settled (cost-drop criterion and EM coarse phase) only "
                  "if it moved the source by less than this fraction of the radius, RMS (default " +
@@ -102,6 +109,7 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   if (f.scale == "em") {
     o->weights.scale_mode = ppcr::ScaleMode::kEM;
     o->weights.scale = f.coarse_scale;
+    o->weights.em_min_scale = f.min_scale;
   } else if (f.scale == "raw") {
     o->weights.scale_mode = ppcr::ScaleMode::kRaw;
   } else {
@@ -116,6 +124,9 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   }
   if (!(std::isfinite(f.coarse_scale) && f.coarse_scale >= 0.0)) {
     return bad("--coarse-scale", str(f.coarse_scale), "expected a number >= 0");
+  }
+  if (!(std::isfinite(f.min_scale) && f.min_scale >= 0.0)) {
+    return bad("--min-scale", str(f.min_scale), "expected a number >= 0");
   }
 
   std::uint32_t criteria = 0;
@@ -159,6 +170,14 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     return bad("--source-normals", "set", "needs --error-model plane, got " + f.error_model);
   }
   o->plane.source_normals = f.source_normals;
+  if (!(std::isfinite(f.noise_floor) && f.noise_floor >= 0.0)) {
+    return bad("--noise-floor", str(f.noise_floor), "expected a number >= 0");
+  }
+  if (f.noise_floor > 0.0 && o->error_model != ppcr::ErrorModel::kPlane) {
+    return bad("--noise-floor", str(f.noise_floor),
+               "needs --error-model plane, got " + f.error_model);
+  }
+  o->plane.noise_floor = f.noise_floor;
   if (!(std::isfinite(f.motion_guard) && f.motion_guard >= 0.0)) {
     return bad("--motion-guard", str(f.motion_guard), "expected a number >= 0");
   }

@@ -16,9 +16,10 @@ struct RegistrationFlags {
   int max_neighbours = ppcr::RegistrationOptions().max_neighbours;
   double dof = ppcr::WeightOptions().dof;
   bool gaussian = false;
-  std::string scale = "em";             // em | raw | <s>
-  double coarse_scale = 0.0;            // EM's coarse scale (0 = radius / 2)
-  std::string criterion = "cost-drop";  // comma-separated list
+  std::string scale = "em";                               // em | raw | <s>
+  double coarse_scale = 0.0;                              // EM's coarse scale (0 = radius / 2)
+  double min_scale = ppcr::WeightOptions().em_min_scale;  // EM's floor on s (0 = none)
+  std::string criterion = "cost-drop";                    // comma-separated list
   double cost_drop_threshold = ppcr::TerminationCriteria().cost_drop_threshold;
   int patience = ppcr::TerminationCriteria().cost_drop_patience;
   int max_iterations = ppcr::TerminationCriteria().max_iterations;
@@ -30,6 +31,7 @@ struct RegistrationFlags {
   double plane_epsilon = ppcr::PlaneOptions().epsilon;
   int normal_neighbours = ppcr::PlaneOptions().normal_neighbours;
   bool source_normals = ppcr::PlaneOptions().source_normals;
+  double noise_floor = ppcr::PlaneOptions().noise_floor;
   double motion_guard =
       ppcr::TerminationCriteria()
           .cost_drop_max_motion;  // cost-drop / coarse-phase motion guard (fraction of radius)
@@ -42,9 +44,10 @@ struct RegistrationFlags {
   int threads = 1;
 };
 
-/// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --criterion,
-/// --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
+/// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --min-scale,
+/// --criterion, --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
 /// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --source-normals,
+/// --noise-floor,
 /// --motion-guard, --coarse-patience, --scale-shrink, --neighbour-cache, --source-voxel,
 /// --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);

@@ -32,6 +32,7 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["initial_cost"] = r.initial_cost;
   j["final_cost"] = r.final_cost;
   j["scale"] = r.scale;
+  j["target_surface_noise"] = r.target_surface_noise;
   j["time_ms"] = time_ms;
   j["correspondences"] = r.correspondences;
   j["matched_source_points"] = r.matched_source_points;
