@@ -404,9 +404,10 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // E-step scale s (weights.hpp); with the plane model's noise floor, s >= noise_floor x the
   // target's surface noise as well as em_min_scale.
   WeightOptions weights = o.weights;
-  if (o.error_model == ErrorModel::kPlane) {
-    weights.em_min_scale =
-        std::max(weights.em_min_scale, o.plane.noise_floor * m.target_surface_noise);
+  const double noise_floor = o.plane.noise_floor * m.target_surface_noise;
+  if (o.error_model == ErrorModel::kPlane && o.plane.noise_floor > 0.0 &&
+      std::isfinite(noise_floor)) {
+    weights.em_min_scale = std::max(weights.em_min_scale, noise_floor);
   }
   detail::ScaleSchedule scale(weights, reference_length);
   const double radius_sq = o.radius * o.radius;

@@ -30,8 +30,8 @@
 //  plane (sqrt of the smallest eigenvalue of the PCA): the sensor's noise and the surfaces'
 //  roughness at the fit's scale. Below it, the EM scale makes the weights trust the nearest
 //  neighbours' sub-noise offsets. Measured (docs/BENCHMARK.md): 0.22 mm on the bunny and 6.0 cm on
-//  the lidar scans; a floor at 1x lowers the lidar median and q0.95 errors by 4-10 % and raises
-//  the bunny's by 1.5-2 %.
+//  the lidar scans; a floor at 1x lowers the lidar median and q0.95 errors by 4-9.5 % and
+//  raises the bunny's by 1.5-2.2 %.
 #pragma once
 
 namespace ppcr {
@@ -49,10 +49,13 @@ struct PlaneOptions {
   bool source_normals = false;      // also fit source normals; pairs use the mean normal (above).
                                     // Costs a source k-d tree per align() (allocates). Like the
                                     // other plane options, ignored by the point model
-  double noise_floor = 0.0;         // with the EM scale (weights.hpp): s never shrinks below this
+  double noise_floor = 0.0;         // with the EM scale (weights.hpp): a floor on s of this
                                     // multiple of the target's surface noise
-                                    // (RegistrationResult::target_surface_noise), nor below
-                                    // WeightOptions::em_min_scale. 0 = off (>= 0). See below.
+                                    // (RegistrationResult::target_surface_noise), combined with
+                                    // WeightOptions::em_min_scale (the larger wins; like it, it
+                                    // raises s in the refine phase if above). 0 = off (>= 0).
+                                    // "Noise floor" in the file comment. Unused by raw and fixed
+                                    // scales
 };
 
 }  // namespace ppcr

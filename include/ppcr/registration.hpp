@@ -99,7 +99,7 @@ struct RegistrationResult {
   std::size_t source_non_finite = 0;
   std::size_t target_non_finite = 0;
   /// Plane model: the target's surface noise (error_model.hpp, "Noise floor"), cloud units;
-  /// 0 for the point model or when no target point has a normal.
+  /// 0 for the point model, when no target point has a normal, or when align() refused its input.
   double target_surface_noise = 0.0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
   /// left about the target's per-axis median point, in the target's axes.

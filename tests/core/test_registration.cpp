@@ -834,13 +834,27 @@ TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surf
   INFO(describe(floored));
   REQUIRE(floored.status.ok());
   CHECK(floored.converged());
-  CHECK(floored.scale == Approx(2.0 * noise).epsilon(1e-12));
-  for (const ppcr::IterationRecord& h : floored.history) CHECK(h.scale >= 2.0 * noise * 0.999);
+  CHECK(floored.scale == Approx(2.0 * floored.target_surface_noise).epsilon(1e-12));
+  for (const ppcr::IterationRecord& h : floored.history) {
+    CHECK(h.scale >= 0.999 * 2.0 * floored.target_surface_noise);
+  }
   CHECK(rotation_error_deg(floored.T_target_source, sc.T_true) < 0.1);
   CHECK(ppcr::translation_error(floored.T_target_source, sc.T_true) < 2e-3);
   // em_min_scale still applies when it is the larger floor.
   o.weights.em_min_scale = 3.0 * noise;
   CHECK(ppcr::align(sc.source, sc.target, o).scale == Approx(3.0 * noise).epsilon(1e-12));
+  // Raw and fixed scales have no EM schedule: the option changes nothing there.
+  o.weights.em_min_scale = 0.0;
+  o.weights.scale_mode = ppcr::ScaleMode::kFixed;
+  o.weights.scale = 0.05;
+  const RegistrationResult fixed_floor = ppcr::align(sc.source, sc.target, o);
+  o.plane.noise_floor = 0.0;
+  const RegistrationResult fixed_none = ppcr::align(sc.source, sc.target, o);
+  CHECK(fixed_floor.scale == Approx(0.05).epsilon(1e-15));
+  CHECK(fixed_floor.T_target_source.matrix() == fixed_none.T_target_source.matrix());
+  o.weights.scale_mode = ppcr::ScaleMode::kEM;
+  o.weights.scale = 0.0;
+  o.plane.noise_floor = 2.0;
 
   // The point model reports no surface noise and ignores the option.
   o.error_model = ppcr::ErrorModel::kPoint;

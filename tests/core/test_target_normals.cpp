@@ -86,10 +86,18 @@ TEST_CASE("collinear or identical points: zero normals (no surface to fit)", "[t
   for (const Eigen::Vector3d& m : normals_of(strip, 20, 1)) CHECK(std::abs(m.z()) > 1.0 - 1e-9);
 }
 
-TEST_CASE("normals are identical with 1 and 2 threads", "[target_normals]") {
+TEST_CASE("normals and spreads are identical with 1 and 2 threads", "[target_normals]") {
   Rng rng(133);
   const PointCloud scene = core_test::analytic_scene(rng, 6000);
   CHECK(normals_of(scene, 20, 1) == normals_of(scene, 20, 2));
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(scene).ok());
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> spread[2];
+  for (int threads : {1, 2}) {
+    ppcr::detail::compute_normals(scene, tree, 20, threads, &normals, &spread[threads - 1]);
+  }
+  CHECK(spread[0] == spread[1]);
 }
 
 TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute force",

@@ -128,6 +128,9 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   if (!(std::isfinite(f.min_scale) && f.min_scale >= 0.0)) {
     return bad("--min-scale", str(f.min_scale), "expected a number >= 0");
   }
+  if (f.min_scale > 0.0 && f.scale != "em") {
+    return bad("--min-scale", str(f.min_scale), "needs --scale em, got --scale " + f.scale);
+  }
 
   std::uint32_t criteria = 0;
   std::stringstream list(f.criterion);
@@ -176,6 +179,9 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   if (f.noise_floor > 0.0 && o->error_model != ppcr::ErrorModel::kPlane) {
     return bad("--noise-floor", str(f.noise_floor),
                "needs --error-model plane, got " + f.error_model);
+  }
+  if (f.noise_floor > 0.0 && f.scale != "em") {
+    return bad("--noise-floor", str(f.noise_floor), "needs --scale em, got --scale " + f.scale);
   }
   o->plane.noise_floor = f.noise_floor;
   if (!(std::isfinite(f.motion_guard) && f.motion_guard >= 0.0)) {

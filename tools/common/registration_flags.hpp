@@ -47,9 +47,8 @@ struct RegistrationFlags {
 /// Adds --radius, --max-neighbours, --dof, --gaussian, --scale, --coarse-scale, --min-scale,
 /// --criterion, --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
 /// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --source-normals,
-/// --noise-floor,
-/// --motion-guard, --coarse-patience, --scale-shrink, --neighbour-cache, --source-voxel,
-/// --target-voxel, --threads.
+/// --noise-floor, --motion-guard, --coarse-patience, --scale-shrink, --neighbour-cache,
+/// --source-voxel, --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// Validates the flags and fills options. The message names the flag and the value seen.
