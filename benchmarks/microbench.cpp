@@ -1,6 +1,7 @@
 // microbench.cpp - the hot loops of a registration, one at a time, on a synthetic surface:
 // k-d tree build, radius-limited kNN, association of a whole cloud, the E-step of one source
-// point, the fused residual/weight/normal-equations pass, one LM solve, and a whole registration.
+// point, the fused residual/weight/normal-equations pass (point and plane models), one LM solve,
+// and a whole registration.
 //   build/.../benchmarks/ppcr_microbench [--benchmark_filter=...]
 // Sizes: N source points (argument), target = N points of the same surface, k = 10.
 #include <benchmark/benchmark.h>
@@ -18,6 +19,7 @@
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
 #include "ppcr/weights.hpp"
+#include "target_normals.hpp"
 
 namespace {
 
@@ -160,6 +162,26 @@ void BM_NormalEquations(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
 }
 
+// The plane model's pass: Omega_k = n_k n_k^T + 0.05 I from the target's 20-neighbour normals.
+void BM_NormalEquationsPlane(benchmark::State& state) {
+  Fixture f(static_cast<std::size_t>(state.range(0)));
+  const int threads = static_cast<int>(state.range(1));
+  std::vector<Eigen::Vector3d> normals;
+  ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &normals);
+  ppcr::detail::PlaneModel plane;
+  plane.normals = &normals;
+  ppcr::detail::WeightParams wp;
+  wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
+  ppcr::detail::Evaluation out;
+  for (auto _ : state) {
+    f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
+                  f.r_sq.data(), threads, &out, &plane);
+    benchmark::DoNotOptimize(out.H);
+  }
+  state.counters["pairs"] = static_cast<double>(f.table.pairs);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
+}
+
 void BM_LMSolve(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)));
   ppcr::detail::LMSolver solver;
@@ -210,6 +232,10 @@ BENCHMARK(BM_AssociateCached)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EStepOnePoint);
 BENCHMARK(BM_NormalEquations)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NormalEquationsPlane)
+    ->Args({10000, 1})
+    ->Args({10000, 2})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Registration)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

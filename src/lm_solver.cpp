@@ -39,6 +39,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
 
   double lambda = options.initial_lambda;
   double lambda_growth = 2.0;  // Nielsen's nu
+  bool last_accepted = true;
   const double gradient_start = current_.g.cwiseAbs().maxCoeff();
   summary.termination = LMTermination::kMaxIterations;
 
@@ -65,13 +66,26 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       break;
     }
 
+    // The model's predicted decrease, 1/2 delta^T (lambda D delta - g), for the gain ratio.
+    const double predicted = 0.5 * delta.dot(lambda * D.cwiseProduct(delta) - current_.g);
     const Eigen::Isometry3d T_trial = se3::exp(delta) * (*T);
+    // A step the model says lowers the cost by less than function_tolerance would end the solve
+    // after its pass (the test below). Take it without the pass: the caller evaluates at the new
+    // pose anyway (the next outer iteration re-associates there), so the summary's final_cost,
+    // last() and weights() stay those of the pose before this step. Only after an accepted step
+    // or at the start, where lambda is not inflated by rejections.
+    if (last_accepted && predicted > 0.0 &&
+        predicted < options.function_tolerance * current_.cost) {
+      *T = T_trial;
+      ++summary.iterations;
+      ++summary.successful_steps;
+      summary.termination = LMTermination::kFunctionTolerance;
+      break;
+    }
     evaluate(T_trial, w_current_.data(), w_trial_.data(), &trial_);
     ++summary.iterations;
 
     const double actual = current_.cost - trial_.cost_prev_weights;  // same weights
-    // The model's predicted decrease, 1/2 delta^T (lambda D delta - g), for the gain ratio.
-    const double predicted = 0.5 * delta.dot(lambda * D.cwiseProduct(delta) - current_.g);
     if (std::isfinite(trial_.cost_prev_weights) && std::isfinite(trial_.cost) && actual > 0.0) {
       // Accept: move, and take the weights refreshed at the new pose (IRLS).
       const double cost_before = current_.cost;
@@ -82,12 +96,14 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       const double rho = predicted > 0.0 ? actual / predicted : 0.0;
       lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
       lambda_growth = 2.0;
+      last_accepted = true;
       if (actual < options.function_tolerance * cost_before) {
         summary.termination = LMTermination::kFunctionTolerance;
         break;
       }
     } else {
       ++summary.unsuccessful_steps;
+      last_accepted = false;
       lambda *= lambda_growth;
       lambda_growth *= 2.0;
       if (lambda > options.max_lambda) {

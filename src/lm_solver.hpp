@@ -31,9 +31,10 @@ class LMSolver {
   /// Minimises the weighted cost over T (updated in place). Allocation-free.
   LMSummary solve(const LMOptions& options, const LMProblem& problem, Eigen::Isometry3d* T);
 
-  /// The last accepted evaluation: H (information), g, cost and weight sum at the final pose.
+  /// The last accepted evaluation: H (information), g, cost and weight sum at the final pose, or
+  /// at the pose before an unevaluated last step (lm.hpp).
   const Evaluation& last() const { return current_; }
-  /// Weights at the final pose, stride k.
+  /// Weights of that evaluation, stride k.
   const std::vector<double>& weights() const { return w_current_; }
 
  private:

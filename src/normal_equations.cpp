@@ -147,13 +147,15 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                                double* r_sq, int num_threads, Evaluation* out,
                                const PlaneModel* plane) {
   const bool use_plane = plane != nullptr && plane->normals != nullptr;
-  with_weight_kernel(weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {
-    if (use_plane) {
-      pass<true>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
-    } else {
-      pass<false>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
-    }
-  });
+  // The pass needs c and u only: no log-sum-exp (two logarithms per point).
+  with_weight_kernel<false>(
+      weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {
+        if (use_plane) {
+          pass<true>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+        } else {
+          pass<false>(e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+        }
+      });
 
   // Ordered reduction over blocks: independent of the thread count.
   const std::size_t n_blocks = (source.size() + kBlockSize - 1) / kBlockSize;

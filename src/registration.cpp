@@ -402,11 +402,11 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   problem.source_extent = source_extent;
 
   // E-step scale s (weights.hpp); with the plane model's noise floor, s >= noise_floor x the
-  // target's surface noise as well as em_min_scale.
+  // target's surface noise as well as em_min_scale. The point model's surface noise is 0, so the
+  // product is 0 or (an unvalidated option times 0) NaN: no floor either way.
   WeightOptions weights = o.weights;
   const double noise_floor = o.plane.noise_floor * m.target_surface_noise;
-  if (o.error_model == ErrorModel::kPlane && o.plane.noise_floor > 0.0 &&
-      std::isfinite(noise_floor)) {
+  if (std::isfinite(noise_floor)) {
     weights.em_min_scale = std::max(weights.em_min_scale, noise_floor);
   }
   detail::ScaleSchedule scale(weights, reference_length);
@@ -513,7 +513,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   }
   result.stop_reason = reason;
   result.scale = std::sqrt(scale.scale_sq());
-  result.target_surface_noise = o.error_model == ErrorModel::kPlane ? m.target_surface_noise : 0.0;
+  result.target_surface_noise = m.target_surface_noise;  // 0 with the point model
 
   // Information at the final pose. With the plane model, the directions the surfaces leave
   // free: eigenvalues of the surface-normal information with rotations scaled by the source's

@@ -72,8 +72,9 @@ PointWeights student_t_weights_overflow(double dof, double exponent, double inv_
 PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, std::size_t n,
                                        double* u);
 
-/// Student-t E-step of n >= 1 squared errors: writes u[0..n), returns c and the log-sum-exp.
-template <class Power>
+/// Student-t E-step of n >= 1 squared errors: writes u[0..n), returns c and, if kLogSumExp, the
+/// log-sum-exp (two logarithms per point; the normal-equation pass does not need it).
+template <bool kLogSumExp, class Power>
 inline PointWeights student_t_weights(const Power& power, double dof, double exponent,
                                       double inv_scale_sq, const double* r_sq, std::size_t n,
                                       double* u) {
@@ -95,11 +96,13 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   }
   PointWeights out;
   out.c = (dof + 3.0) / (nu_z_min * sum);
-  out.log_sum_exp = -exponent * std::log1p(z_min / dof) + std::log(sum);
+  if (kLogSumExp) out.log_sum_exp = -exponent * std::log1p(z_min / dof) + std::log(sum);
   return out;
 }
 
-/// Gaussian E-step of n >= 1 squared errors: writes u[0..n), returns c and the log-sum-exp.
+/// Gaussian E-step of n >= 1 squared errors: writes u[0..n), returns c and, if kLogSumExp, the
+/// log-sum-exp.
+template <bool kLogSumExp>
 inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, std::size_t n,
                                      double* u) {
   double z_min = r_sq[0] * inv_scale_sq;
@@ -117,17 +120,18 @@ inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, st
   }
   PointWeights out;
   out.c = 1.0 / sum;
-  out.log_sum_exp = -0.5 * z_min + std::log(sum);
+  if (kLogSumExp) out.log_sum_exp = -0.5 * z_min + std::log(sum);
   return out;
 }
 
 /// Calls f(kernel) with kernel(r_sq, n, u) -> PointWeights specialised for the model and dof,
-/// so that the choice is made once per pass, not once per point.
-template <class F>
+/// so that the choice is made once per pass, not once per point. Without kLogSumExp the kernel
+/// leaves PointWeights::log_sum_exp at 0 (except on the overflow path).
+template <bool kLogSumExp, class F>
 void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& f) {
   if (model == WeightModel::kGaussian) {
     f([=](const double* r_sq, std::size_t n, double* u) {
-      return gaussian_weights(inv_scale_sq, r_sq, n, u);
+      return gaussian_weights<kLogSumExp>(inv_scale_sq, r_sq, n, u);
     });
     return;
   }
@@ -135,18 +139,18 @@ void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& 
   const double twice = 2.0 * exponent;
   if (exponent == 4.0) {
     f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights(PowerFour(), dof, exponent, inv_scale_sq, r_sq, n, u);
+      return student_t_weights<kLogSumExp>(PowerFour(), dof, exponent, inv_scale_sq, r_sq, n, u);
     });
   } else if (twice == std::floor(twice) && twice <= 64.0) {
     const PowerHalfInteger power{static_cast<int>(std::floor(exponent)),
                                  (static_cast<int>(twice) & 1) != 0};
     f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, n, u);
     });
   } else {
     const PowerGeneral power{exponent};
     f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, n, u);
     });
   }
 }

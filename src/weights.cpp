@@ -55,7 +55,7 @@ PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, 
 double compute_weights(WeightModel model, double dof, double inv_scale_sq, const double* r_sq,
                        std::size_t n, double* w) {
   double log_sum_exp = 0.0;
-  detail::with_weight_kernel(model, dof, inv_scale_sq, [&](const auto& kernel) {
+  detail::with_weight_kernel<true>(model, dof, inv_scale_sq, [&](const auto& kernel) {
     const detail::PointWeights pw = kernel(r_sq, n, w);
     for (std::size_t k = 0; k < n; ++k) w[k] *= pw.c;
     log_sum_exp = pw.log_sum_exp;

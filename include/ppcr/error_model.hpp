@@ -28,8 +28,9 @@
 //  Noise floor (PlaneOptions::noise_floor, off by default): the target's surface noise is the
 //  median, over target points with a normal, of the RMS distance of the fit's points from their
 //  plane (sqrt of the smallest eigenvalue of the PCA): the sensor's noise and the surfaces'
-//  roughness at the fit's scale. Below it, the EM scale makes the weights trust the nearest
-//  neighbours' sub-noise offsets. Measured (docs/BENCHMARK.md): 0.22 mm on the bunny and 6.0 cm on
+//  roughness at the fit's scale. The rationale (an explanation, not a measurement): below it,
+//  the EM scale makes the weights trust the nearest neighbours' sub-noise offsets. Measured
+//  (docs/BENCHMARK.md): 0.22 mm on the bunny and 6.0 cm on
 //  the lidar scans; a floor at 1x lowers the lidar median and q0.95 errors by 4-9.5 % and
 //  raises the bunny's by 1.5-2.2 %.
 #pragma once

@@ -5,6 +5,11 @@
 // with the weights w_kj recomputed from the pose after every accepted step (IRLS, as the
 // authors do in a Ceres iteration callback). A step is accepted when it lowers the cost under the
 // SAME weights as the pose it starts from; the weights are then refreshed at the new pose.
+// A step whose predicted decrease (the damped Gauss-Newton model's) is below
+// function_tolerance x cost, right after an accepted step or at the start, is taken without
+// evaluating it and ends the solve: its pass would only confirm the stop, and the next outer
+// iteration evaluates at the new pose anyway. The summary's final_cost is then the cost before
+// that step.
 #pragma once
 
 namespace ppcr {
@@ -12,7 +17,8 @@ namespace ppcr {
 struct LMOptions {
   int max_iterations = 50;            // LM iterations (accepted + rejected steps) per inner problem
   double function_tolerance = 1e-5;   // stop after an accepted step that lowers the cost by less
-                                      // than this fraction of the cost before it (authors: 1e-5)
+                                      // than this fraction of the cost before it (authors: 1e-5),
+                                      // or take a step predicted to, unevaluated, and stop
   double gradient_tolerance = 1e-10;  // stop when max_i |g_i| <= this * max_i |g_i| at the start
   double step_tolerance = 1e-7;       // stop when a step would move no source point by more than
                                       // this fraction of the association radius (bound:
@@ -35,7 +41,8 @@ const char* to_string(LMTermination t);
 
 struct LMSummary {
   double initial_cost = 0.0;   // cost at the starting pose, weights computed at that pose
-  double final_cost = 0.0;     // cost at the final pose, weights refreshed at that pose
+  double final_cost = 0.0;     // cost at the last evaluated pose (the final one, or the one
+                               // before an unevaluated last step), weights refreshed there
   int successful_steps = 0;    // accepted steps (cost fell under unchanged weights)
   int unsuccessful_steps = 0;  // rejected steps (lambda increased)
   int iterations = 0;          // successful_steps + unsuccessful_steps

@@ -101,8 +101,10 @@ struct RegistrationResult {
   /// Plane model: the target's surface noise (error_model.hpp, "Noise floor"), cloud units;
   /// 0 for the point model, when no target point has a normal, or when align() refused its input.
   double target_surface_noise = 0.0;
-  /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
-  /// left about the target's per-axis median point, in the target's axes.
+  /// Gauss-Newton information (J^T W Omega J) at the final pose (at the last evaluated pose when
+  /// the last inner step was taken unevaluated, lm.hpp: it lowers the cost by < 1e-5), twist
+  /// (omega, v) applied on the left about the target's per-axis median point, in the target's
+  /// axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues
   /// of the surface-normal information, rotations scaled by the source's RMS radius, below 1e-2

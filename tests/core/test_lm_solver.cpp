@@ -265,3 +265,56 @@ TEST_CASE("LM with k > 1 and IRLS weights: consistent summary, identical with 1 
   // The pose moved towards the truth.
   CHECK(pose_error(T1, T_true) < pose_error(Eigen::Isometry3d::Identity(), T_true));
 }
+
+TEST_CASE("A final step predicted below function_tolerance is taken without a pass", "[lm]") {
+  // IRLS problem (k = 8, Student-t): the solve's last step is predicted to lower the cost by
+  // less than function_tolerance, so it is applied unevaluated. Reference: the same solver with
+  // every tolerance off, stopped after the same number of steps (every step evaluated) gives the
+  // same pose, and stopped one step earlier gives the reported final cost.
+  Rng rng(67);
+  const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
+  const Eigen::Isometry3d T_true = core_test::make_pose(
+      Eigen::Vector3d(1, 0, 1), core_test::deg2rad(2.0), Eigen::Vector3d(0.02, -0.01, 0.0));
+  PointCloud source = core_test::transformed(target, T_true.inverse());
+  source.resize(2000);
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  AssociationTable assoc;
+  assoc.resize(source.size(), 8);
+  ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
+  LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+  pb.weights.inv_scale_sq = 1.0 / (0.05 * 0.05);
+  pb.step_reference = 0.2;
+  LMSolver solver;
+  solver.resize(source.size(), 8);
+
+  LMOptions options;  // defaults: function_tolerance 1e-5
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const LMSummary s = solver.solve(options, pb, &T);
+  check_summary_consistent(s, options);
+  REQUIRE(s.termination == LMTermination::kFunctionTolerance);
+  REQUIRE(s.unsuccessful_steps == 0);
+  REQUIRE(s.successful_steps >= 2);
+  CHECK(solver.last().cost == s.final_cost);
+
+  LMOptions all_steps;
+  all_steps.function_tolerance = 0.0;
+  all_steps.gradient_tolerance = 0.0;
+  all_steps.step_tolerance = 0.0;
+  auto run = [&](int steps, Eigen::Isometry3d* T_out) {
+    all_steps.max_iterations = steps;
+    *T_out = Eigen::Isometry3d::Identity();
+    LMSolver reference;
+    reference.resize(source.size(), 8);
+    return reference.solve(all_steps, pb, T_out);
+  };
+  Eigen::Isometry3d T_same, T_before;
+  const LMSummary same = run(s.iterations, &T_same);
+  const LMSummary before = run(s.iterations - 1, &T_before);
+  REQUIRE(same.successful_steps == s.iterations);
+  // Same steps, so the same pose, bit for bit.
+  CHECK(T.matrix() == T_same.matrix());
+  // The reported cost is that of the pose before the last step: that step had no pass.
+  CHECK(s.final_cost == before.final_cost);
+  CHECK(same.final_cost < s.final_cost);
+}

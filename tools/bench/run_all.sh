@@ -53,16 +53,19 @@ protocol() {
   esac
 }
 
-# Runs: label|ppcr_bench arguments. ppcr in eight variants, then every peer.
+# Runs: label|ppcr_bench arguments. ppcr in nine variants, then every peer.
 # ppcr: the defaults (plane model); sn = with source normals (issue #8); sn-mse = source normals
 # with the cost-drop + MSE-prev criterion (docs/TERMINATION.md section 10); sn-nf = source
 # normals and the EM scale floored at the target's surface noise; sn-nf-dof1 = the same with
-# Student-t dof 1 (docs/BENCHMARK.md); point = the paper's error with our EM scale and motion
-# guard; paper = the paper's own settings (point errors, raw units, cost drop alone).
+# Student-t dof 1 (docs/BENCHMARK.md); sn-nf08-dof125 = source normals, floor 0.8 x the surface
+# noise, dof 1.25 (the single setting of BENCHMARK.md that beats every peer on both sets);
+# point = the paper's error with our EM scale and motion guard; paper = the paper's own
+# settings (point errors, raw units, cost drop alone).
 runs=("ppcr|--method ppcr" "ppcr-sn|--method ppcr --source-normals"
       "ppcr-sn-mse|--method ppcr --source-normals --criterion cost-drop,mse-prev"
       "ppcr-sn-nf|--method ppcr --source-normals --noise-floor 1"
       "ppcr-sn-nf-dof1|--method ppcr --source-normals --noise-floor 1 --dof 1"
+      "ppcr-sn-nf08-dof125|--method ppcr --source-normals --noise-floor 0.8 --dof 1.25"
       "ppcr-point|--method ppcr --error-model point"
       "ppcr-gaussian|--method ppcr --gaussian"
       "ppcr-paper|--method ppcr --error-model point --scale raw --motion-guard 0")
