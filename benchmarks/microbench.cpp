@@ -1,7 +1,7 @@
 // microbench.cpp - the hot loops of a registration, one at a time, on a synthetic surface:
-// k-d tree build, radius-limited kNN, association of a whole cloud, the E-step of one source
-// point, the fused residual/weight/normal-equations pass (point and plane models), one LM solve,
-// and a whole registration.
+// k-d tree build, the target's normals, radius-limited kNN, association of a whole cloud, the
+// E-step of one source point, the fused residual/weight/normal-equations pass (point and plane
+// models), one LM solve, and a whole registration.
 //   build/.../benchmarks/ppcr_microbench [--benchmark_filter=...]
 // Sizes: N source points (argument), target = N points of the same surface, k = 10.
 #include <benchmark/benchmark.h>
@@ -52,6 +52,21 @@ void BM_KdTreeBuild(benchmark::State& state) {
   for (auto _ : state) {
     ppcr::detail::KdTree tree;
     benchmark::DoNotOptimize(tree.build(target));
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+// The plane model's set-up: a 20-neighbour PCA normal (and spread) per target point, once per
+// set_target().
+void BM_TargetNormals(benchmark::State& state) {
+  const ppcr::PointCloud target = surface(static_cast<std::size_t>(state.range(0)), 1);
+  ppcr::detail::KdTree tree;
+  (void)tree.build(target);
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<double> spread;
+  for (auto _ : state) {
+    ppcr::detail::compute_normals(target, tree, 20, 1, &normals, &spread);
+    benchmark::DoNotOptimize(normals.data());
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
@@ -222,6 +237,7 @@ void BM_Registration(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_KdTreeBuild)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TargetNormals)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RadiusKnnQuery)->Arg(10000)->Arg(100000);
 BENCHMARK(BM_Associate)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AssociateCached)

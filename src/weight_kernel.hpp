@@ -20,7 +20,8 @@
 // The per-pair work of finite points is unchanged.
 //
 // The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
-// integer or half-integer e up to 32 by squaring, otherwise std::pow.
+// multiple of 1/8 up to 32 (nu a multiple of 0.25) by squaring and at most three square roots,
+// otherwise std::pow.
 #pragma once
 
 #include <cmath>
@@ -45,12 +46,23 @@ struct PowerFour {
     return q2 * q2;
   }
 };
-/// q^e for 2e an integer <= 64.
-struct PowerHalfInteger {
-  int whole;
-  bool half;
+/// q^e for 8e an integer, e <= 32: q^floor(e) by squaring times q^(1/2), q^(1/4), q^(1/8) (a chain
+/// of square roots) for the set bits of the fraction. Half-integers (any integer dof) need one
+/// root; dof a multiple of 0.25 (e.g. 1.25, 1.5) at most three, instead of std::pow.
+struct PowerDyadic {
+  int whole;    // floor(e)
+  int eighths;  // (e - floor(e)) * 8, in [0, 8)
   double operator()(double q) const {
-    double result = half ? std::sqrt(q) : 1.0;
+    double result = 1.0;
+    if (eighths != 0) {
+      const double r2 = std::sqrt(q);  // q^(1/2)
+      if (eighths & 4) result = r2;
+      if (eighths & 3) {
+        const double r4 = std::sqrt(r2);  // q^(1/4)
+        if (eighths & 2) result *= r4;
+        if (eighths & 1) result *= std::sqrt(r4);  // q^(1/8)
+      }
+    }
     double base = q;
     for (int n = whole; n > 0; n >>= 1) {
       if (n & 1) result *= base;
@@ -136,14 +148,14 @@ void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& 
     return;
   }
   const double exponent = 0.5 * (dof + 3.0);
-  const double twice = 2.0 * exponent;
+  const double eighths = 8.0 * exponent;
   if (exponent == 4.0) {
     f([=](const double* r_sq, std::size_t n, double* u) {
       return student_t_weights<kLogSumExp>(PowerFour(), dof, exponent, inv_scale_sq, r_sq, n, u);
     });
-  } else if (twice == std::floor(twice) && twice <= 64.0) {
-    const PowerHalfInteger power{static_cast<int>(std::floor(exponent)),
-                                 (static_cast<int>(twice) & 1) != 0};
+  } else if (eighths == std::floor(eighths) && exponent <= 32.0) {
+    const int whole = static_cast<int>(std::floor(exponent));
+    const PowerDyadic power{whole, static_cast<int>(eighths) - 8 * whole};
     f([=](const double* r_sq, std::size_t n, double* u) {
       return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, n, u);
     });
