@@ -102,9 +102,9 @@ struct RegistrationResult {
   /// 0 for the point model, when no target point has a normal, or when align() refused its input.
   double target_surface_noise = 0.0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose (at the last evaluated pose when
-  /// the last inner step was taken unevaluated, lm.hpp: it lowers the cost by < 1e-5), twist
-  /// (omega, v) applied on the left about the target's per-axis median point, in the target's
-  /// axes.
+  /// the last inner step was taken unevaluated, lm.hpp: a step predicted to lower the cost by
+  /// less than function_tolerance of it), twist (omega, v) applied on the left about the target's
+  /// per-axis median point, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
   /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues
   /// of the surface-normal information, rotations scaled by the source's RMS radius, below 1e-2
