@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "association.hpp"
@@ -230,29 +231,48 @@ TEST_CASE("max_iterations is respected; max_iterations = 1 gives exactly one ste
   }
 }
 
+// An IRLS problem with k = 8: the first `source_points` of a uniform cloud moved by T_true^-1,
+// associated at the identity within radius 0.2; Student-t weights at s = 0.05. Built in place
+// (the tree keeps a reference to target).
+struct IrlsScene {
+  static constexpr int kNeighbours = 8;
+  IrlsScene(std::uint64_t seed, std::size_t target_points, std::size_t source_points,
+            const Eigen::Vector3d& axis, double degrees, const Eigen::Vector3d& translation) {
+    Rng rng(seed);
+    target = core_test::uniform_cloud(rng, target_points, -1.0, 1.0);
+    T_true = core_test::make_pose(axis, core_test::deg2rad(degrees), translation);
+    source = core_test::transformed(target, T_true.inverse());
+    source.resize(source_points);
+    REQUIRE(tree.build(target).ok());
+    assoc.resize(source.size(), kNeighbours);
+    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
+  }
+  LMProblem problem() const {
+    LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
+    pb.weights.inv_scale_sq = 1.0 / (0.05 * 0.05);
+    pb.step_reference = 0.2;
+    return pb;
+  }
+  PointCloud target, source;
+  Eigen::Isometry3d T_true;
+  ppcr::detail::KdTree tree;
+  AssociationTable assoc;
+};
+
 TEST_CASE("LM with k > 1 and IRLS weights: consistent summary, identical with 1 and 2 threads",
           "[lm]") {
-  Rng rng(66);
-  const PointCloud target = core_test::uniform_cloud(rng, 6000, -1.0, 1.0);
-  const Eigen::Isometry3d T_true = core_test::make_pose(
-      Eigen::Vector3d(0, 0, 1), core_test::deg2rad(3.0), Eigen::Vector3d(0.01, 0.02, 0.0));
-  PointCloud source = core_test::transformed(target, T_true.inverse());
-  source.resize(3000);
-  ppcr::detail::KdTree tree;
-  REQUIRE(tree.build(target).ok());
-  AssociationTable assoc;
-  assoc.resize(source.size(), 8);
-  ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
-  REQUIRE(assoc.matched == source.size());
+  const IrlsScene scene(66, 6000, 3000, Eigen::Vector3d(0, 0, 1), 3.0,
+                        Eigen::Vector3d(0.01, 0.02, 0.0));
+  const PointCloud& source = scene.source;
+  const Eigen::Isometry3d& T_true = scene.T_true;
+  REQUIRE(scene.assoc.matched == source.size());
   Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = T1;
   LMSummary s1, s2;
   for (int threads : {1, 2}) {
-    LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
-    pb.weights.inv_scale_sq = 1.0 / (0.05 * 0.05);
+    LMProblem pb = scene.problem();
     pb.num_threads = threads;
-    pb.step_reference = 0.2;
     LMSolver solver;
-    solver.resize(source.size(), 8);
+    solver.resize(source.size(), IrlsScene::kNeighbours);
     LMOptions options;
     (threads == 1 ? s1 : s2) = solver.solve(options, pb, threads == 1 ? &T1 : &T2);
     check_summary_consistent(threads == 1 ? s1 : s2, options);
@@ -271,22 +291,12 @@ TEST_CASE("A final step predicted below function_tolerance is taken without a pa
   // less than function_tolerance, so it is applied unevaluated. Reference: the same solver with
   // every tolerance off, stopped after the same number of steps (every step evaluated) gives the
   // same pose, and stopped one step earlier gives the reported final cost.
-  Rng rng(67);
-  const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
-  const Eigen::Isometry3d T_true = core_test::make_pose(
-      Eigen::Vector3d(1, 0, 1), core_test::deg2rad(2.0), Eigen::Vector3d(0.02, -0.01, 0.0));
-  PointCloud source = core_test::transformed(target, T_true.inverse());
-  source.resize(2000);
-  ppcr::detail::KdTree tree;
-  REQUIRE(tree.build(target).ok());
-  AssociationTable assoc;
-  assoc.resize(source.size(), 8);
-  ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
-  LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
-  pb.weights.inv_scale_sq = 1.0 / (0.05 * 0.05);
-  pb.step_reference = 0.2;
+  const IrlsScene scene(67, 4000, 2000, Eigen::Vector3d(1, 0, 1), 2.0,
+                        Eigen::Vector3d(0.02, -0.01, 0.0));
+  const PointCloud& source = scene.source;
+  const LMProblem pb = scene.problem();
   LMSolver solver;
-  solver.resize(source.size(), 8);
+  solver.resize(source.size(), IrlsScene::kNeighbours);
 
   LMOptions options;  // defaults: function_tolerance 1e-5
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -305,7 +315,7 @@ TEST_CASE("A final step predicted below function_tolerance is taken without a pa
     all_steps.max_iterations = steps;
     *T_out = Eigen::Isometry3d::Identity();
     LMSolver reference;
-    reference.resize(source.size(), 8);
+    reference.resize(source.size(), IrlsScene::kNeighbours);
     return reference.solve(all_steps, pb, T_out);
   };
   Eigen::Isometry3d T_same, T_before;
