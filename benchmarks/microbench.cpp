@@ -183,8 +183,10 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &normals);
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(f.target, normals, 0.05, &points);
   ppcr::detail::PlaneModel plane;
-  plane.normals = &normals;
+  plane.points = &points;
   ppcr::detail::WeightParams wp;
   wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
   ppcr::detail::Evaluation out;

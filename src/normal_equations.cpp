@@ -18,6 +18,17 @@ inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
 
 }  // namespace
 
+void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
+                       double epsilon, std::vector<PlanePoint>* out) {
+  out->resize(target.size());
+  for (std::size_t i = 0; i < target.size(); ++i) {
+    PlanePoint& q = (*out)[i];
+    q.y = target[i];
+    q.n = normals[i];
+    q.a = omega_isotropic(normals[i], epsilon);
+  }
+}
+
 void NormalEquations::resize(std::size_t source_points) {
   blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
 }
@@ -32,7 +43,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
-  const std::vector<Eigen::Vector3d>* normals = kPlane ? plane->normals : nullptr;
+  const PlanePoint* points = kPlane ? plane->points->data() : nullptr;
   // Per-slot pair normals (source normals on) replace the target points' normals.
   const Eigen::Vector3d* pair_normals =
       kPlane && plane->pair_normals != nullptr ? plane->pair_normals->data() : nullptr;
@@ -58,16 +69,21 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       const Eigen::Vector3d p = R * source[j] + t;
       // Squared errors of the point's pairs (Mahalanobis for the plane model), and the cost
       // under the previous weights.
-      for (std::size_t m = 0; m < count; ++m) {
-        const Eigen::Vector3d e = target[idx[m]] - p;
-        if constexpr (kPlane) {
-          const Eigen::Vector3d& nk =
-              pair_normals != nullptr ? pair_normals[slot + m] : (*normals)[idx[m]];
-          const double ne = nk.dot(e);
-          r[m] = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
-        } else {
-          r[m] = e.squaredNorm();
+      if constexpr (kPlane) {
+        for (std::size_t m = 0; m < count; ++m) {
+          const PlanePoint& q = points[idx[m]];
+          const Eigen::Vector3d e = q.y - p;
+          if (pair_normals != nullptr) {
+            const Eigen::Vector3d& nk = pair_normals[slot + m];
+            const double ne = nk.dot(e);
+            r[m] = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
+          } else {
+            const double ne = q.n.dot(e);
+            r[m] = q.a * e.squaredNorm() + ne * ne;
+          }
         }
+      } else {
+        for (std::size_t m = 0; m < count; ++m) r[m] = (target[idx[m]] - p).squaredNorm();
       }
       if (w_prev != nullptr) {
         const double* wp = &w_prev[slot];
@@ -83,11 +99,11 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         double bx = 0.0, by = 0.0, bz = 0.0;
         for (std::size_t m = 0; m < count; ++m) {
           const double u = w[m];
-          const Eigen::Vector3d& nk =
-              pair_normals != nullptr ? pair_normals[slot + m] : (*normals)[idx[m]];
-          const Eigen::Vector3d& y = target[idx[m]];
-          const double ex = y.x() - p.x(), ey = y.y() - p.y(), ez = y.z() - p.z();
-          const double ua = u * omega_isotropic(nk, epsilon);
+          const PlanePoint& q = points[idx[m]];
+          const Eigen::Vector3d& nk = pair_normals != nullptr ? pair_normals[slot + m] : q.n;
+          const double ak = pair_normals != nullptr ? omega_isotropic(nk, epsilon) : q.a;
+          const double ex = q.y.x() - p.x(), ey = q.y.y() - p.y(), ez = q.y.z() - p.z();
+          const double ua = u * ak;
           const double une = u * (nk.x() * ex + nk.y() * ey + nk.z() * ez);
           const double unx = u * nk.x(), uny = u * nk.y(), unz = u * nk.z();
           A += ua;
@@ -146,7 +162,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
                                double* r_sq, int num_threads, Evaluation* out,
                                const PlaneModel* plane) {
-  const bool use_plane = plane != nullptr && plane->normals != nullptr;
+  const bool use_plane = plane != nullptr && plane->points != nullptr;
   // The pass needs c and u only: no log-sum-exp (two logarithms per point).
   with_weight_kernel<false>(
       weights.model, weights.dof, weights.inv_scale_sq, [&](const auto& e_step) {

@@ -42,11 +42,25 @@ struct WeightParams {
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
+/// One target point of the plane model in one cache line: the pass gathers a pair's position,
+/// Omega's isotropic weight and normal with one random access instead of two (target point and
+/// normal), and does not re-derive a from the normal per pair.
+struct alignas(64) PlanePoint {
+  Eigen::Vector3d y;  // position (the target cloud's point)
+  double a;           // Omega = a I + n n^T: a = epsilon with a normal, 1 without
+  Eigen::Vector3d n;  // unit normal, or zero for "no normal"
+};
+
+/// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match). Set-up: allocates.
+void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
+                       double epsilon, std::vector<PlanePoint>* out);
+
 /// The plane error model's data (null = point model).
 struct PlaneModel {
-  const std::vector<Eigen::Vector3d>* normals = nullptr;  // per target point: unit, or zero for
-                                                          // "no normal"
-  double epsilon = 0.05;                                  // in-plane weight
+  // Per target point (pack_plane_points), same order and positions as the target cloud passed
+  // to evaluate().
+  const std::vector<PlanePoint>* points = nullptr;
+  double epsilon = 0.05;  // in-plane weight (a of the pair normals; points carry their own a)
   // Optional, per association slot j*k+m (pair_normals.hpp): when set, the pair's normal
   // replaces its target point's normal in Omega (fixed for the pass: not a function of T).
   const std::vector<Eigen::Vector3d>* pair_normals = nullptr;

@@ -265,8 +265,9 @@ struct Registration::Impl {
   std::size_t target_non_finite = 0;
   bool has_target = false;
   detail::KdTree tree;
-  std::vector<Eigen::Vector3d> target_normals;  // plane model only
-  double target_surface_noise = 0.0;            // plane model only (target_normals.hpp)
+  std::vector<Eigen::Vector3d> target_normals;          // plane model only
+  std::vector<detail::PlanePoint> target_plane_points;  // plane model only: points + normals
+  double target_surface_noise = 0.0;                    // plane model only (target_normals.hpp)
   detail::PlaneModel plane;
   // Plane model with source normals only: the source's k-d tree and normals, one normal per
   // association slot.
@@ -309,7 +310,9 @@ Status Registration::set_target(const PointCloud& target) {
     detail::compute_normals(m.target_centered, m.tree, m.options.plane.normal_neighbours,
                             m.options.num_threads, &m.target_normals, &spread);
     m.target_surface_noise = detail::surface_noise(spread, &scratch);
-    m.plane.normals = &m.target_normals;
+    detail::pack_plane_points(m.target_centered, m.target_normals, m.options.plane.epsilon,
+                              &m.target_plane_points);
+    m.plane.points = &m.target_plane_points;
     m.plane.epsilon = m.options.plane.epsilon;
   }
   m.has_target = true;

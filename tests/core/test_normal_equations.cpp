@@ -397,8 +397,10 @@ TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[n
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
   for (double epsilon : {0.05, 0.3, 1.0}) {
+    std::vector<ppcr::detail::PlanePoint> points;
+    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points);
     ppcr::detail::PlaneModel plane;
-    plane.normals = &normals;
+    plane.points = &points;
     plane.epsilon = epsilon;
     for (const WeightParams& wp : weight_params()) {
       const Eigen::Isometry3d T =
@@ -431,8 +433,10 @@ TEST_CASE("plane model: g is the central-difference gradient of the fixed-weight
           "[normal_equations]") {
   const Problem pb = make_problem(64, 500, 6, 0.15);
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 65);
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
   ppcr::detail::PlaneModel plane;
-  plane.normals = &normals;
+  plane.points = &points;
   plane.epsilon = 0.05;
   for (const WeightParams& wp : weight_params()) {
     const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
@@ -460,8 +464,10 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
   }
   pb.assoc.pairs = pb.assoc.matched = pb.source.size();
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 67);
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
   ppcr::detail::PlaneModel plane;
-  plane.normals = &normals;
+  plane.points = &points;
   plane.epsilon = 0.05;
   const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0};
   const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
@@ -493,8 +499,10 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
   Rng rng(74);
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
   ppcr::detail::PlaneModel plane;
-  plane.normals = &normals;
+  plane.points = &points;
   plane.epsilon = 0.05;
   plane.pair_normals = &pair;
   for (const WeightParams& wp : weight_params()) {
@@ -525,8 +533,10 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
 TEST_CASE("plane model without normals is the point model", "[normal_equations]") {
   const Problem pb = make_problem(68, 500, 6, 0.15);
   const std::vector<Eigen::Vector3d> none(pb.target.size(), Eigen::Vector3d::Zero());
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, none, 0.05, &points);
   ppcr::detail::PlaneModel plane;
-  plane.normals = &none;
+  plane.points = &points;
   plane.epsilon = 0.05;  // unused without normals: Omega = I
   for (const WeightParams& wp : weight_params()) {
     const Output a = run(pb, wp, pb.T, nullptr, 1, &plane);
