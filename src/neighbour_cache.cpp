@@ -1,7 +1,9 @@
 // neighbour_cache.cpp - see neighbour_cache.hpp for the certificate.
 #include "neighbour_cache.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "parallel.hpp"
 
@@ -11,15 +13,22 @@ namespace {
 
 // Re-ranks candidates idx[0..n) by squared distance to p into the table slots out_idx/out_d
 // (ascending; ties by target index), keeping at most k within radius_sq. Returns the count.
+// *left_out_sq is set to the smallest squared distance of a candidate not kept (+inf if none).
 int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
-           int k, double radius_sq, std::uint32_t* out_idx, double* out_d) {
+           int k, double radius_sq, std::uint32_t* out_idx, double* out_d, double* left_out_sq) {
   int held = 0;
+  double left_out = std::numeric_limits<double>::infinity();
   for (int c = 0; c < n; ++c) {
     const double d = (target[idx[c]] - p).squaredNorm();
-    if (!(d <= radius_sq)) continue;
-    if (held == k && !(d < out_d[k - 1] || (d == out_d[k - 1] && idx[c] < out_idx[k - 1]))) {
+    if (!(d <= radius_sq)) {
+      left_out = d < left_out ? d : left_out;
       continue;
     }
+    if (held == k && !(d < out_d[k - 1] || (d == out_d[k - 1] && idx[c] < out_idx[k - 1]))) {
+      left_out = d < left_out ? d : left_out;
+      continue;
+    }
+    if (held == k) left_out = out_d[k - 1] < left_out ? out_d[k - 1] : left_out;  // evicted
     int i = held < k ? held++ : k - 1;
     while (i > 0 && (out_d[i - 1] > d || (out_d[i - 1] == d && out_idx[i - 1] > idx[c]))) {
       out_d[i] = out_d[i - 1];
@@ -29,7 +38,37 @@ int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32
     out_d[i] = d;
     out_idx[i] = idx[c];
   }
+  *left_out_sq = left_out;
   return held;
+}
+
+// Refreshes a row whose set is certified: distances at p, then an insertion sort by (distance,
+// index), the order rerank produces.
+void resort(const PointCloud& target, const Eigen::Vector3d& p, int n, std::uint32_t* idx,
+            double* d) {
+  for (int m = 0; m < n; ++m) d[m] = (target[idx[m]] - p).squaredNorm();
+  for (int m = 1; m < n; ++m) {
+    const double dm = d[m];
+    const std::uint32_t im = idx[m];
+    int i = m;
+    while (i > 0 && (d[i - 1] > dm || (d[i - 1] == dm && idx[i - 1] > im))) {
+      d[i] = d[i - 1];
+      idx[i] = idx[i - 1];
+      --i;
+    }
+    d[i] = dm;
+    idx[i] = im;
+  }
+}
+
+// rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held
+// (largest squared distance out_d[n - 1]) and every outside point at least outside_min away.
+double set_radius(int n, int k, const double* out_d, double radius, double outside_min) {
+  const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
+  const double enter = outside_min - radius;  // no outside point enters the radius
+  const double rho = n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
+                            : std::min(radius - m, enter);
+  return rho - 1e-9 * radius;
 }
 
 }  // namespace
@@ -41,12 +80,18 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   query.resize(source_points);
   bound.resize(source_points);
   queried.resize(source_points);
+  resorted.resize(source_points);
+  ranked_at.resize(source_points);
+  set_radius.resize(source_points);
   invalidate();
 }
 
 void NeighbourCache::invalidate() {
   for (double& b : bound) b = -1.0;
+  for (double& rho : set_radius) rho = -1.0;
+  table = nullptr;
   last_queries = 0;
+  last_resorted = 0;
 }
 
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
@@ -59,6 +104,9 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   const double candidate_radius_sq = candidate_radius * candidate_radius;
   const Eigen::Matrix3d R = T_target_source.linear();
   const Eigen::Vector3d t = T_target_source.translation();
+  // The set certificate re-sorts the table's rows in place: only if this cache wrote them, with
+  // this k.
+  const bool same_table = cache->table == table;
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
     const std::size_t j = static_cast<std::size_t>(jj);
     const std::size_t slot = j * static_cast<std::size_t>(k);
@@ -68,12 +116,23 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     std::uint32_t* cand = &cache->index[cslot];
     const Eigen::Vector3d p = R * source[j] + t;
     cache->queried[j] = 0;
+    cache->resorted[j] = 0;
+    double left_out_sq = 0.0;
     if (cache->bound[j] >= 0.0) {
+      if (same_table && (p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
+        resort(target, p, table->count[j], out_idx, out_d);  // the set certificate
+        cache->resorted[j] = 1;
+        return;
+      }
       const double delta = (p - cache->query[j]).norm();
-      const int n = rerank(target, p, cand, cache->count[j], k, radius_sq, out_idx, out_d);
+      const int n =
+          rerank(target, p, cand, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
       const double kth = n == k ? std::sqrt(out_d[k - 1]) : radius;
       if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
         table->count[j] = static_cast<std::uint16_t>(n);
+        cache->ranked_at[j] = p;
+        cache->set_radius[j] = set_radius(
+            n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
         return;
       }
     }
@@ -86,13 +145,20 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;
     cache->query[j] = p;
     cache->queried[j] = 1;
-    table->count[j] =
-        static_cast<std::uint16_t>(rerank(target, p, cand, found, k, radius_sq, out_idx, out_d));
+    const int n = rerank(target, p, cand, found, k, radius_sq, out_idx, out_d, &left_out_sq);
+    table->count[j] = static_cast<std::uint16_t>(n);
+    cache->ranked_at[j] = p;
+    cache->set_radius[j] =
+        set_radius(n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j]));
   });
+  cache->table = table;
   table->recount();
   std::size_t queries = 0;
   for (std::uint8_t q : cache->queried) queries += q;
   cache->last_queries = queries;
+  std::size_t resorted = 0;
+  for (std::uint8_t r : cache->resorted) resorted += r;
+  cache->last_resorted = resorted;
 }
 
 }  // namespace detail
