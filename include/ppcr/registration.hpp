@@ -48,8 +48,9 @@ struct RegistrationOptions {
   /// nearest target points within 1.25 x radius, re-ranked at each association; a point is
   /// re-queried only when its list cannot prove the answer: src/neighbour_cache.hpp). The
   /// associations are those of a fresh k-d tree query either way; 0 = query every point in every
-  /// iteration. Used only when k + this <= 256.
-  int neighbour_cache = 8;
+  /// iteration. Used only when k + this <= 256. 4 rather than 8 since the set certificate made
+  /// most re-ranks cheap (2-4 % faster on the benchmark sets, docs/PERFORMANCE.md).
+  int neighbour_cache = 4;
   double source_voxel = 0.0;   // voxel leaf for the source, cloud units (0 = no filtering)
   double target_voxel = 0.0;   // voxel leaf for the target, cloud units (0 = no filtering)
   int num_threads = 1;         // threads for association and reductions (>= 1; the result
