@@ -16,10 +16,13 @@ namespace {
 // *left_out_sq is set to the smallest squared distance of a candidate not kept (+inf if none).
 int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
            int k, double radius_sq, std::uint32_t* out_idx, double* out_d, double* left_out_sq) {
+  // Distances first (independent gathers the CPU overlaps), then the branchy selection.
+  double dist[NeighbourCache::kMaxCapacity];
+  for (int c = 0; c < n; ++c) dist[c] = (target[idx[c]] - p).squaredNorm();
   int held = 0;
   double left_out = std::numeric_limits<double>::infinity();
   for (int c = 0; c < n; ++c) {
-    const double d = (target[idx[c]] - p).squaredNorm();
+    const double d = dist[c];
     if (!(d <= radius_sq)) {
       left_out = d < left_out ? d : left_out;
       continue;
