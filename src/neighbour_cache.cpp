@@ -66,12 +66,15 @@ void resort(const PointCloud& target, const Eigen::Vector3d& p, int n, std::uint
 
 // rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held
 // (largest squared distance out_d[n - 1]) and every outside point at least outside_min away.
-double set_radius(int n, int k, const double* out_d, double radius, double outside_min) {
+// The margin covers the rounding of the distances: 1e-9 of the radius, and 1e-12 of |p'| for
+// coordinates far larger than the radius.
+double set_radius(int n, int k, const double* out_d, double radius, double outside_min,
+                  const Eigen::Vector3d& p) {
   const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
   const double enter = outside_min - radius;  // no outside point enters the radius
   const double rho = n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
                             : std::min(radius - m, enter);
-  return rho - 1e-9 * radius;
+  return rho - 1e-9 * radius - 1e-12 * p.norm();
 }
 
 }  // namespace
@@ -135,7 +138,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         table->count[j] = static_cast<std::uint16_t>(n);
         cache->ranked_at[j] = p;
         cache->set_radius[j] = set_radius(
-            n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
+            n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta), p);
         return;
       }
     }
@@ -152,7 +155,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     table->count[j] = static_cast<std::uint16_t>(n);
     cache->ranked_at[j] = p;
     cache->set_radius[j] =
-        set_radius(n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j]));
+        set_radius(n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j]), p);
   });
   cache->table = table;
   table->recount();

@@ -22,13 +22,13 @@
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
-// rho_j is shrunk by 1e-9 r against rounding. The table row must be the one this cache's last
-// call wrote (checked by address).
+// rho_j is shrunk by 1e-9 r + 1e-12 |p'| against rounding. The table row must be the one this
+// cache's last call wrote (checked by address).
 //
-// Cost: a re-ranked point takes ~120 ns for K = 18 against ~820 ns for a k-d tree query
-// (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer iterations move points by a
-// small fraction of the neighbour spacing, so almost every point is re-ranked
-// (docs/PERFORMANCE.md).
+// Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
+// ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
+// iterations move points by a small fraction of the neighbour spacing, so almost every point is
+// re-ranked (docs/PERFORMANCE.md).
 #pragma once
 
 #include <Eigen/Geometry>
