@@ -110,9 +110,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   const double candidate_radius_sq = candidate_radius * candidate_radius;
   const Eigen::Matrix3d R = T_target_source.linear();
   const Eigen::Vector3d t = T_target_source.translation();
-  // The set certificate re-sorts the table's rows in place: only if this cache wrote them, with
-  // this k.
-  const bool same_table = cache->table == table;
+  // The set certificate re-sorts the table's rows in place: only if this cache's last call wrote
+  // them, with this k and radius.
+  const bool same_table =
+      cache->table == table && cache->table_k == k && cache->table_radius == radius;
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
     const std::size_t j = static_cast<std::size_t>(jj);
     const std::size_t slot = j * static_cast<std::size_t>(k);
@@ -158,6 +159,8 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         set_radius(n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j]), p);
   });
   cache->table = table;
+  cache->table_k = k;
+  cache->table_radius = radius;
   table->recount();
   std::size_t queries = 0;
   for (std::uint8_t q : cache->queried) queries += q;

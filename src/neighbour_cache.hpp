@@ -23,7 +23,8 @@
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
 // rho_j is shrunk by 1e-9 r + 1e-12 |p'| against rounding. The table row must be the one this
-// cache's last call wrote (checked by address).
+// cache's last call wrote: checked by the table's address, k and radius; no other code may write
+// the table between two calls.
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -52,8 +53,10 @@ struct NeighbourCache {
   std::vector<std::uint8_t> queried;        // 1 if the last associate_cached re-queried point j
   PointCloud ranked_at;                     // p', where point j was last re-ranked
   std::vector<double> set_radius;           // rho_j, cloud units; < 0 = none
-  const AssociationTable* table = nullptr;  // the table the last call wrote
-  std::size_t last_queries = 0;             // k-d tree queries made by the last associate_cached
+  const AssociationTable* table = nullptr;  // the table the last call wrote, with this k and r:
+  int table_k = 0;                          //   the set certificate re-sorts its rows in place
+  double table_radius = 0.0;
+  std::size_t last_queries = 0;        // k-d tree queries made by the last associate_cached
   std::vector<std::uint8_t> resorted;  // 1 if the last associate_cached used the set certificate
   std::size_t last_resorted = 0;       // rows the last associate_cached refreshed by it
 

@@ -45,8 +45,8 @@ struct RegistrationOptions {
   /// 2.4 cm short. Hence off by default.
   double reassociate_motion = 0.0;
   /// Extra candidates kept per source point for exact incremental association (k + this many
-  /// nearest target points within 1.25 x radius, re-ranked at each association; a point is
-  /// re-queried only when its list cannot prove the answer: src/neighbour_cache.hpp). The
+  /// nearest target points within 1.25 x radius, re-ranked or re-sorted at each association; a
+  /// point is re-queried only when its list cannot prove the answer: src/neighbour_cache.hpp). The
   /// associations are those of a fresh k-d tree query either way; 0 = query every point in every
   /// iteration. Used only when k + this <= 256. 4 rather than 8 since the set certificate made
   /// most re-ranks cheap (2-4 % faster on the benchmark sets, docs/PERFORMANCE.md).

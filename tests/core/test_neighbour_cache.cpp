@@ -59,19 +59,67 @@ TEST_CASE("associate_cached equals brute force along a sequence of poses", "[ass
         cache.resize(source.size(), k + extra);
         AssociationTable table;
         table.resize(source.size(), k);
-        std::size_t resorted = 0;
+        std::size_t drift_resorted = 0;
         for (std::size_t i = 0; i < poses.size(); ++i) {
           ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
           INFO("k " << k << " extra " << extra << " radius " << radius << " pose " << i);
           REQUIRE(table_mismatch(table, source, target, poses[i], radius * radius) == "");
           if (i == 0) CHECK(cache.last_queries == source.size());  // an empty cache queries all
-          resorted += cache.last_resorted;
+          if (i >= 1 && i <= 12) drift_resorted += cache.last_resorted;
         }
-        // The drift's rows were partly refreshed by the set certificate: the brute-force check
-        // above covered that path.
-        CHECK(resorted > source.size());
+        // Some of the drift's moving rows were refreshed by the set certificate: the brute-force
+        // check above covered that path.
+        CHECK(drift_resorted > source.size());
       }
     }
+  }
+}
+
+TEST_CASE("associate_cached: the set certificate holds inside rho and lets go outside it",
+          "[association]") {
+  // Two target points 1 apart on the x axis and one source point moved along it, so that rho is
+  // known in closed form (neighbour_cache.hpp): a move just inside it keeps the set (re-sorted),
+  // a move just past it changes the set (re-ranked); a rho twice too large would keep a stale row.
+  const PointCloud target = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0)};
+  const PointCloud source = {Eigen::Vector3d(0, 0, 0)};
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  auto at = [](double x) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(x, 0, 0);
+    return T;
+  };
+  struct Case {
+    const char* name;
+    int k;
+    double radius, start, inside, outside;
+    std::uint16_t count_after;  // the row's size once the point moved past rho
+  };
+  // k = 1 within a large radius: separation, rho = (0.6 - 0.4) / 2 = 0.1; past it the other
+  // point is the nearest. k = 2 within 0.6, one neighbour (the other, 0.7 away, is a candidate
+  // within 1.25 x 0.6): entry, rho = min(0.6 - 0.3, 0.7 - 0.6) = 0.1; past it both are in range.
+  for (const Case& c : {Case{"separation", 1, 10.0, 0.4, 0.099, 0.11, 1},
+                        Case{"entry", 2, 0.6, 0.3, 0.099, 0.11, 2}}) {
+    INFO(c.name);
+    NeighbourCache cache;
+    cache.resize(1, c.k + 1);
+    AssociationTable table;
+    table.resize(1, c.k);
+    const double r_sq = c.radius * c.radius;
+    ppcr::detail::associate_cached(tree, target, source, at(c.start), c.radius, 1, &cache, &table);
+    REQUIRE(table_mismatch(table, source, target, at(c.start), r_sq) == "");
+    REQUIRE(table.count[0] == 1);
+    CHECK(table.index[0] == 0u);
+    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.inside), c.radius, 1,
+                                   &cache, &table);
+    CHECK(cache.last_resorted == 1u);
+    CHECK(table_mismatch(table, source, target, at(c.start + c.inside), r_sq) == "");
+    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.outside), c.radius, 1,
+                                   &cache, &table);
+    CHECK(cache.last_resorted == 0u);
+    CHECK(table_mismatch(table, source, target, at(c.start + c.outside), r_sq) == "");
+    CHECK(table.count[0] == c.count_after);
+    if (c.k == 1) CHECK(table.index[0] == 1u);
   }
 }
 
@@ -150,14 +198,18 @@ TEST_CASE("registration with and without the neighbour cache gives the same pose
     o.error_model = model;
     o.neighbour_cache = 0;
     const ppcr::RegistrationResult plain = ppcr::align(source, target, o);
-    o.neighbour_cache = 8;
-    const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
     REQUIRE(plain.status.ok());
-    REQUIRE(cached.status.ok());
-    CHECK(plain.iterations == cached.iterations);
-    CHECK(plain.correspondences == cached.correspondences);
-    CHECK((plain.T_target_source.matrix() - cached.T_target_source.matrix()).cwiseAbs().maxCoeff() <
+    for (int extra : {4, 8}) {  // the default, and the default before the set certificate
+      INFO("neighbour_cache " << extra);
+      o.neighbour_cache = extra;
+      const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
+      REQUIRE(cached.status.ok());
+      CHECK(plain.iterations == cached.iterations);
+      CHECK(plain.correspondences == cached.correspondences);
+      CHECK(
+          (plain.T_target_source.matrix() - cached.T_target_source.matrix()).cwiseAbs().maxCoeff() <
           1e-12);
-    CHECK((cached.T_target_source.linear() - T_true.linear()).norm() < 1e-2);
+      CHECK((cached.T_target_source.linear() - T_true.linear()).norm() < 1e-2);
+    }
   }
 }
