@@ -11,6 +11,25 @@ namespace ppcr {
 namespace detail {
 namespace {
 
+// Squared distances of targets idx[0..n) to p: the one formula of every path below, so that the
+// table's distances and tie order never depend on the path a point took.
+void distances(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
+               double* d) {
+  for (int c = 0; c < n; ++c) d[c] = (target[idx[c]] - p).squaredNorm();
+}
+
+// Inserts (dist, id) into the sorted prefix [0, i) of out_idx/out_d by (distance, index), shifting
+// larger entries up from slot i: the one order of every path below.
+void insert_sorted(int i, double dist, std::uint32_t id, std::uint32_t* out_idx, double* out_d) {
+  while (i > 0 && (out_d[i - 1] > dist || (out_d[i - 1] == dist && out_idx[i - 1] > id))) {
+    out_d[i] = out_d[i - 1];
+    out_idx[i] = out_idx[i - 1];
+    --i;
+  }
+  out_d[i] = dist;
+  out_idx[i] = id;
+}
+
 // Re-ranks candidates idx[0..n) by squared distance to p into the table slots out_idx/out_d
 // (ascending; ties by target index), keeping at most k within radius_sq. Returns the count.
 // *left_out_sq is set to the smallest squared distance of a candidate not kept (+inf if none).
@@ -18,7 +37,7 @@ int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32
            int k, double radius_sq, std::uint32_t* out_idx, double* out_d, double* left_out_sq) {
   // Distances first (independent gathers the CPU overlaps), then the branchy selection.
   double dist[NeighbourCache::kMaxCapacity];
-  for (int c = 0; c < n; ++c) dist[c] = (target[idx[c]] - p).squaredNorm();
+  distances(target, p, idx, n, dist);
   int held = 0;
   double left_out = std::numeric_limits<double>::infinity();
   for (int c = 0; c < n; ++c) {
@@ -32,14 +51,7 @@ int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32
       continue;
     }
     if (held == k) left_out = out_d[k - 1] < left_out ? out_d[k - 1] : left_out;  // evicted
-    int i = held < k ? held++ : k - 1;
-    while (i > 0 && (out_d[i - 1] > d || (out_d[i - 1] == d && out_idx[i - 1] > idx[c]))) {
-      out_d[i] = out_d[i - 1];
-      out_idx[i] = out_idx[i - 1];
-      --i;
-    }
-    out_d[i] = d;
-    out_idx[i] = idx[c];
+    insert_sorted(held < k ? held++ : k - 1, d, idx[c], out_idx, out_d);
   }
   *left_out_sq = left_out;
   return held;
@@ -49,28 +61,16 @@ int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32
 // index), the order rerank produces.
 void resort(const PointCloud& target, const Eigen::Vector3d& p, int n, std::uint32_t* idx,
             double* d) {
-  for (int m = 0; m < n; ++m) d[m] = (target[idx[m]] - p).squaredNorm();
-  for (int m = 1; m < n; ++m) {
-    const double dm = d[m];
-    const std::uint32_t im = idx[m];
-    int i = m;
-    while (i > 0 && (d[i - 1] > dm || (d[i - 1] == dm && idx[i - 1] > im))) {
-      d[i] = d[i - 1];
-      idx[i] = idx[i - 1];
-      --i;
-    }
-    d[i] = dm;
-    idx[i] = im;
-  }
+  distances(target, p, idx, n, d);
+  for (int m = 1; m < n; ++m) insert_sorted(m, d[m], idx[m], idx, d);
 }
 
-// rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held
-// (largest squared distance out_d[n - 1]) and every outside point at least outside_min away.
+// rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held, m
+// the largest held distance (0 if none), and every outside point at least outside_min away.
 // The margin covers the rounding of the distances: 1e-9 of the radius, and 1e-12 of |p'| for
 // coordinates far larger than the radius.
-double set_radius(int n, int k, const double* out_d, double radius, double outside_min,
+double set_radius(int n, int k, double m, double radius, double outside_min,
                   const Eigen::Vector3d& p) {
-  const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
   const double enter = outside_min - radius;  // no outside point enters the radius
   const double rho = n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
                             : std::min(radius - m, enter);
@@ -85,8 +85,7 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   count.resize(source_points);
   query.resize(source_points);
   bound.resize(source_points);
-  queried.resize(source_points);
-  resorted.resize(source_points);
+  path.resize(source_points);
   ranked_at.resize(source_points);
   set_radius.resize(source_points);
   invalidate();
@@ -110,10 +109,11 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   const double candidate_radius_sq = candidate_radius * candidate_radius;
   const Eigen::Matrix3d R = T_target_source.linear();
   const Eigen::Vector3d t = T_target_source.translation();
-  // The set certificate re-sorts the table's rows in place: only if this cache's last call wrote
-  // them, with this k and radius.
-  const bool same_table =
-      cache->table == table && cache->table_k == k && cache->table_radius == radius;
+  // The lists and rho hold for the table, k and radius of the last call (the set certificate
+  // re-sorts that table's rows in place): anything else starts afresh.
+  if (cache->table != table || cache->table_k != k || cache->table_radius != radius) {
+    cache->invalidate();
+  }
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
     const std::size_t j = static_cast<std::size_t>(jj);
     const std::size_t slot = j * static_cast<std::size_t>(k);
@@ -122,24 +122,27 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     double* out_d = &table->dist_sq[slot];
     std::uint32_t* cand = &cache->index[cslot];
     const Eigen::Vector3d p = R * source[j] + t;
-    cache->queried[j] = 0;
-    cache->resorted[j] = 0;
+    // The row re-ranked at p: its count, p' and rho (outside_min bounds every point not kept).
+    auto ranked = [&](int n, double m, double outside_min) {
+      table->count[j] = static_cast<std::uint16_t>(n);
+      cache->ranked_at[j] = p;
+      cache->set_radius[j] = set_radius(n, k, m, radius, outside_min, p);
+    };
     double left_out_sq = 0.0;
     if (cache->bound[j] >= 0.0) {
-      if (same_table && (p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
+      if ((p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
         resort(target, p, table->count[j], out_idx, out_d);  // the set certificate
-        cache->resorted[j] = 1;
+        cache->path[j] = NeighbourCache::kResorted;
         return;
       }
       const double delta = (p - cache->query[j]).norm();
       const int n =
           rerank(target, p, cand, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
-      const double kth = n == k ? std::sqrt(out_d[k - 1]) : radius;
+      const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
+      const double kth = n == k ? m : radius;
       if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
-        table->count[j] = static_cast<std::uint16_t>(n);
-        cache->ranked_at[j] = p;
-        cache->set_radius[j] = set_radius(
-            n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta), p);
+        ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
+        cache->path[j] = NeighbourCache::kReranked;
         return;
       }
     }
@@ -151,22 +154,21 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     cache->count[j] = static_cast<std::uint16_t>(found);
     cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;
     cache->query[j] = p;
-    cache->queried[j] = 1;
+    cache->path[j] = NeighbourCache::kQueried;
     const int n = rerank(target, p, cand, found, k, radius_sq, out_idx, out_d, &left_out_sq);
-    table->count[j] = static_cast<std::uint16_t>(n);
-    cache->ranked_at[j] = p;
-    cache->set_radius[j] =
-        set_radius(n, k, out_d, radius, std::min(std::sqrt(left_out_sq), cache->bound[j]), p);
+    ranked(n, n > 0 ? std::sqrt(out_d[n - 1]) : 0.0,
+           std::min(std::sqrt(left_out_sq), cache->bound[j]));
   });
   cache->table = table;
   cache->table_k = k;
   cache->table_radius = radius;
   table->recount();
-  std::size_t queries = 0;
-  for (std::uint8_t q : cache->queried) queries += q;
+  std::size_t queries = 0, resorted = 0;
+  for (std::uint8_t path : cache->path) {
+    queries += path == NeighbourCache::kQueried;
+    resorted += path == NeighbourCache::kResorted;
+  }
   cache->last_queries = queries;
-  std::size_t resorted = 0;
-  for (std::uint8_t r : cache->resorted) resorted += r;
   cache->last_resorted = resorted;
 }
 

@@ -23,8 +23,8 @@
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
 // rho_j is shrunk by 1e-9 r + 1e-12 |p'| against rounding. The table row must be the one this
-// cache's last call wrote: checked by the table's address, k and radius; no other code may write
-// the table between two calls.
+// cache's last call wrote: a call with another table, k or radius invalidates the cache first;
+// no other code may write the table between two calls.
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -46,19 +46,21 @@ namespace detail {
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
   int capacity = 0;
-  std::vector<std::uint32_t> index;         // capacity slots per source point
-  std::vector<std::uint16_t> count;         // candidates held (<= capacity)
-  PointCloud query;                         // q_j, the tree's frame
-  std::vector<double> bound;                // B_j, cloud units; < 0 = no list yet
-  std::vector<std::uint8_t> queried;        // 1 if the last associate_cached re-queried point j
-  PointCloud ranked_at;                     // p', where point j was last re-ranked
-  std::vector<double> set_radius;           // rho_j, cloud units; < 0 = none
-  const AssociationTable* table = nullptr;  // the table the last call wrote, with this k and r:
-  int table_k = 0;                          //   the set certificate re-sorts its rows in place
+  std::vector<std::uint32_t> index;  // capacity slots per source point
+  std::vector<std::uint16_t> count;  // candidates held (<= capacity)
+  PointCloud query;                  // q_j, the tree's frame
+  std::vector<double> bound;         // B_j, cloud units; < 0 = no list yet
+  PointCloud ranked_at;              // p', where point j was last re-ranked
+  std::vector<double> set_radius;    // rho_j, cloud units; < 0 = none
+  // The path each point took in the last associate_cached.
+  enum Path : std::uint8_t { kReranked = 0, kQueried = 1, kResorted = 2 };
+  std::vector<std::uint8_t> path;
+  std::size_t last_queries = 0;   // k-d tree queries made by the last associate_cached
+  std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
+  // What the last call was for: another table, k or radius invalidates the cache first.
+  const AssociationTable* table = nullptr;
+  int table_k = 0;
   double table_radius = 0.0;
-  std::size_t last_queries = 0;        // k-d tree queries made by the last associate_cached
-  std::vector<std::uint8_t> resorted;  // 1 if the last associate_cached used the set certificate
-  std::size_t last_resorted = 0;       // rows the last associate_cached refreshed by it
 
   static constexpr int kMaxCapacity = 256;
   /// r_c = kRadiusMargin * r: a point near the edge of the data keeps its (incomplete) list
@@ -73,7 +75,8 @@ struct NeighbourCache {
 
 /// As associate() (association.hpp), with the cache: same table, fewer k-d tree queries. The
 /// cache must be sized for source.size() points with capacity >= table->k, and be invalidated
-/// when the tree, the target, the source or the radius changes. Allocation-free. The result does
+/// when the tree, the target or the source changes (a new table, k or radius invalidates it
+/// itself). Allocation-free. The result does
 /// not depend on the thread count.
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
                       const Eigen::Isometry3d& T_target_source, double radius, int num_threads,

@@ -49,7 +49,7 @@ struct RegistrationOptions {
   /// point is re-queried only when its list cannot prove the answer: src/neighbour_cache.hpp). The
   /// associations are those of a fresh k-d tree query either way; 0 = query every point in every
   /// iteration. Used only when k + this <= 256. 4 rather than 8 since the set certificate made
-  /// most re-ranks cheap (2-4 % faster on the benchmark sets, docs/PERFORMANCE.md).
+  /// most re-ranks cheap (1-4 % faster on the benchmark sets, docs/PERFORMANCE.md).
   int neighbour_cache = 4;
   double source_voxel = 0.0;   // voxel leaf for the source, cloud units (0 = no filtering)
   double target_voxel = 0.0;   // voxel leaf for the target, cloud units (0 = no filtering)
