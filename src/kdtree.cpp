@@ -1,4 +1,5 @@
-// kdtree.cpp - nanoflann adaptor and the radius-bounded kNN result set (nanoflann 1.4 has none).
+// kdtree.cpp - the k-d tree (built by nanoflann, searched on a flat copy) and the radius-bounded
+// kNN result set (nanoflann 1.4 has none).
 #include "kdtree.hpp"
 
 #include <cmath>
@@ -6,6 +7,8 @@
 #include <nanoflann.hpp>
 #include <new>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ppcr {
 namespace detail {
@@ -68,11 +71,83 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<
     nanoflann::L2_Simple_Adaptor<double, CloudAdaptor, double, std::uint32_t>, CloudAdaptor, 3,
     std::uint32_t>;
 
+// nanoflann's tree, flattened for the search: nodes in depth-first order (a split node's first
+// child follows it; `second` indexes the other), and the points copied in the tree's leaf order,
+// so that a leaf scans contiguous coordinates instead of gathering through nanoflann's index
+// array. The search below is nanoflann's searchLevel (same bounds, same visiting order, hence
+// the same result) on this layout.
+struct FlatNode {
+  // Split node: the first child's upper and the second child's lower extent along `axis`
+  // (nanoflann's divlow, divhigh).
+  double low, high;
+  std::uint32_t second;  // split node: the second child; leaf: its first point (leaf order)
+  std::uint32_t axis;    // split node: 0..2; leaf: kLeaf | one past its last point
+};
+constexpr std::uint32_t kLeaf = 0x80000000u;
+
 }  // namespace
 
 struct KdTree::Impl {
-  CloudAdaptor adaptor;
-  std::unique_ptr<Tree> tree;
+  std::vector<FlatNode> nodes;
+  std::vector<double> xyz;           // point i of the leaf order at xyz[3 i .. 3 i + 3)
+  std::vector<std::uint32_t> index;  // its index in the cloud
+  double box_low[3] = {0, 0, 0}, box_high[3] = {0, 0, 0};  // the cloud's bounding box
+
+  template <class Node>
+  std::uint32_t flatten(const Node* node) {
+    const std::uint32_t me = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back(FlatNode{0.0, 0.0, 0, 0});
+    if (node->child1 == nullptr && node->child2 == nullptr) {
+      nodes[me].second = static_cast<std::uint32_t>(node->node_type.lr.left);
+      nodes[me].axis = kLeaf | static_cast<std::uint32_t>(node->node_type.lr.right);
+      return me;
+    }
+    nodes[me].low = node->node_type.sub.divlow;
+    nodes[me].high = node->node_type.sub.divhigh;
+    nodes[me].axis = static_cast<std::uint32_t>(node->node_type.sub.divfeat);
+    flatten(node->child1);
+    const std::uint32_t second = flatten(node->child2);
+    nodes[me].second = second;
+    return me;
+  }
+
+  // nanoflann's searchLevel: min_dist_sq is the squared distance from the query to the node's
+  // cell as far as the splits above tell (per-axis terms in axis_dist_sq), and a subtree is
+  // visited only if that is within the result set's current bound.
+  void search(const FlatNode* node, const double* q, double min_dist_sq, double* axis_dist_sq,
+              RadiusKnnResultSet& result) const {
+    if (node->axis & kLeaf) {
+      const std::uint32_t end = node->axis & ~kLeaf;
+      double worst = result.worstDist();
+      for (std::uint32_t i = node->second; i < end; ++i) {
+        const double* y = &xyz[3 * static_cast<std::size_t>(i)];
+        const double dx = q[0] - y[0], dy = q[1] - y[1], dz = q[2] - y[2];
+        const double d = dx * dx + dy * dy + dz * dz;
+        if (d < worst) {
+          result.addPoint(d, index[i]);
+          worst = result.worstDist();
+        }
+      }
+      return;
+    }
+    const std::uint32_t axis = node->axis;
+    const double v = q[axis];
+    const FlatNode* first = node + 1;
+    const FlatNode* other = &nodes[node->second];
+    double cut_sq;  // squared distance to the other child's extent along the axis
+    if ((v - node->low) + (v - node->high) < 0.0) {
+      cut_sq = (v - node->high) * (v - node->high);
+    } else {
+      std::swap(first, other);
+      cut_sq = (v - node->low) * (v - node->low);
+    }
+    search(first, q, min_dist_sq, axis_dist_sq, result);
+    const double saved = axis_dist_sq[axis];
+    min_dist_sq += cut_sq - saved;
+    axis_dist_sq[axis] = cut_sq;
+    if (min_dist_sq <= result.worstDist()) search(other, q, min_dist_sq, axis_dist_sq, result);
+    axis_dist_sq[axis] = saved;
+  }
 };
 
 KdTree::KdTree() : impl_(new Impl) {}
@@ -81,16 +156,37 @@ KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
 Status KdTree::build(const PointCloud& points) {
-  if (points.size() >= std::numeric_limits<std::uint32_t>::max()) {
+  // Leaf ends carry the kLeaf bit, so point counts (and node indices, < 2 x points) stay below it.
+  if (points.size() >= kLeaf) {
     return Status(StatusCode::kInvalidArgument,
                   "the cloud has " + std::to_string(points.size()) +
-                      " points; the k-d tree indexes at most 2^32 - 1");
+                      " points; the k-d tree indexes at most 2^31 - 1");
   }
-  impl_->adaptor.points = &points;
+  Impl& m = *impl_;
+  m.nodes.clear();
+  m.xyz.clear();
+  m.index.clear();
+  if (points.empty()) return Status::Ok();
   try {
-    impl_->tree.reset(new Tree(3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)));
+    // nanoflann builds the tree (leaves of at most 16 points); its nodes are then copied into
+    // the flat layout and its own structure is freed.
+    const CloudAdaptor adaptor{&points};
+    const Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    for (int a = 0; a < 3; ++a) {
+      m.box_low[a] = tree.root_bbox[static_cast<std::size_t>(a)].low;
+      m.box_high[a] = tree.root_bbox[static_cast<std::size_t>(a)].high;
+    }
+    m.index.assign(tree.vAcc.begin(), tree.vAcc.end());
+    m.xyz.resize(3 * m.index.size());
+    for (std::size_t i = 0; i < m.index.size(); ++i) {
+      for (int a = 0; a < 3; ++a)
+        m.xyz[3 * i + static_cast<std::size_t>(a)] = points[m.index[i]][a];
+    }
+    m.flatten(tree.root_node);
   } catch (const std::bad_alloc&) {
-    impl_->tree.reset();
+    m.nodes.clear();
+    m.xyz.clear();
+    m.index.clear();
     return Status(StatusCode::kInvalidArgument, "out of memory building the k-d tree over " +
                                                     std::to_string(points.size()) + " points");
   }
@@ -99,15 +195,22 @@ Status KdTree::build(const PointCloud& points) {
 
 int KdTree::radius_knn(const Eigen::Vector3d& query, int k, double radius_sq,
                        std::uint32_t* indices, double* dist_sq) const {
-  if (!impl_->tree || impl_->adaptor.points->empty() || k < 1) return 0;
+  const Impl& m = *impl_;
+  if (m.nodes.empty() || k < 1) return 0;
   RadiusKnnResultSet result(k, radius_sq, indices, dist_sq);
-  impl_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams(0, 0.0f, true));
+  // nanoflann's computeInitialDistances: the query's squared distance to the bounding box.
+  double axis_dist_sq[3];
+  double min_dist_sq = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double below = query[a] - m.box_low[a], above = query[a] - m.box_high[a];
+    axis_dist_sq[a] = below < 0.0 ? below * below : (above > 0.0 ? above * above : 0.0);
+    min_dist_sq += axis_dist_sq[a];
+  }
+  m.search(m.nodes.data(), query.data(), min_dist_sq, axis_dist_sq, result);
   return result.size();
 }
 
-std::size_t KdTree::size() const {
-  return impl_->adaptor.points ? impl_->adaptor.points->size() : 0;
-}
+std::size_t KdTree::size() const { return impl_->index.size(); }
 
 }  // namespace detail
 }  // namespace ppcr
