@@ -1,75 +1,16 @@
-// kdtree.cpp - the k-d tree (built by nanoflann, searched on a flat copy) and the radius-bounded
-// kNN result set (nanoflann 1.4 has none).
+// kdtree.cpp - the k-d tree: built by nanoflann (kdtree_nanoflann.hpp), searched on a flat copy.
 #include "kdtree.hpp"
 
-#include <cmath>
-#include <limits>
-#include <nanoflann.hpp>
 #include <new>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "kdtree_nanoflann.hpp"
+
 namespace ppcr {
 namespace detail {
 namespace {
-
-// nanoflann's dataset adaptor over a std::vector<Eigen::Vector3d>.
-struct CloudAdaptor {
-  const PointCloud* points = nullptr;
-  std::size_t kdtree_get_point_count() const { return points->size(); }
-  double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*points)[i][dim]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;  // let nanoflann compute it
-  }
-};
-
-// The k nearest within a radius: nanoflann's KNN result set with an upper bound. nanoflann
-// visits a candidate only if its squared distance is strictly below worstDist(); while fewer
-// than k are held, worstDist() is the next double above radius_sq, so points exactly at the
-// radius are kept (the radius is inclusive). Once k are held it is the k-th best, as in KNN.
-class RadiusKnnResultSet {
- public:
-  using DistanceType = double;
-  using IndexType = std::uint32_t;
-
-  RadiusKnnResultSet(int capacity, double radius_sq, IndexType* indices, double* dist_sq)
-      : indices_(indices),
-        dist_sq_(dist_sq),
-        capacity_(capacity),
-        bound_(std::nextafter(radius_sq, std::numeric_limits<double>::infinity())) {}
-
-  int size() const { return count_; }
-  bool full() const { return count_ == capacity_; }
-  double worstDist() const { return full() ? dist_sq_[capacity_ - 1] : bound_; }
-
-  // Insertion into the sorted prefix; returns true to keep searching.
-  bool addPoint(double dist_sq, IndexType index) {
-    if (!(dist_sq < worstDist())) return true;
-    int i = (count_ < capacity_) ? count_ : capacity_ - 1;
-    while (i > 0 && dist_sq_[i - 1] > dist_sq) {
-      dist_sq_[i] = dist_sq_[i - 1];
-      indices_[i] = indices_[i - 1];
-      --i;
-    }
-    dist_sq_[i] = dist_sq;
-    indices_[i] = index;
-    if (count_ < capacity_) ++count_;
-    return true;
-  }
-
- private:
-  IndexType* indices_;
-  double* dist_sq_;
-  int capacity_;
-  int count_ = 0;
-  double bound_;
-};
-
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<double, CloudAdaptor, double, std::uint32_t>, CloudAdaptor, 3,
-    std::uint32_t>;
 
 // nanoflann's tree, flattened for the search: nodes in depth-first order (a split node's first
 // child follows it; `second` indexes the other), and the points copied in the tree's leaf order,
@@ -143,7 +84,9 @@ struct KdTree::Impl {
     }
     search(first, q, min_dist_sq, axis_dist_sq, result);
     const double saved = axis_dist_sq[axis];
-    min_dist_sq += cut_sq - saved;
+    // As nanoflann: (min + cut) - saved, in that order (another order rounds differently and
+    // can prune a cell whose nearest point lies exactly at the radius).
+    min_dist_sq = min_dist_sq + cut_sq - saved;
     axis_dist_sq[axis] = cut_sq;
     if (min_dist_sq <= result.worstDist()) search(other, q, min_dist_sq, axis_dist_sq, result);
     axis_dist_sq[axis] = saved;
@@ -163,9 +106,7 @@ Status KdTree::build(const PointCloud& points) {
                       " points; the k-d tree indexes at most 2^31 - 1");
   }
   Impl& m = *impl_;
-  m.nodes.clear();
-  m.xyz.clear();
-  m.index.clear();
+  m = Impl();
   if (points.empty()) return Status::Ok();
   try {
     // nanoflann builds the tree (leaves of at most 16 points); its nodes are then copied into
@@ -183,10 +124,9 @@ Status KdTree::build(const PointCloud& points) {
         m.xyz[3 * i + static_cast<std::size_t>(a)] = points[m.index[i]][a];
     }
     m.flatten(tree.root_node);
+    m.nodes.shrink_to_fit();
   } catch (const std::bad_alloc&) {
-    m.nodes.clear();
-    m.xyz.clear();
-    m.index.clear();
+    m = Impl();
     return Status(StatusCode::kInvalidArgument, "out of memory building the k-d tree over " +
                                                     std::to_string(points.size()) + " points");
   }

@@ -1,8 +1,9 @@
 // kdtree.hpp - a k-d tree over the target and the radius-limited k-nearest-neighbour query.
 //
-// The only file that includes nanoflann (1.4.x), behind a pimpl: nanoflann builds the tree, and
-// the search runs nanoflann's algorithm on a flat copy of it (kdtree.cpp). Distances are
-// SQUARED, as nanoflann's L2 metric: every distance here is squared and says so.
+// nanoflann (1.4.x) stays behind a pimpl (only kdtree.cpp and kdtree_nanoflann.hpp include it):
+// nanoflann builds the tree, and the search runs nanoflann's algorithm on a flat copy of it
+// (kdtree.cpp), with the same result. Distances are SQUARED, as nanoflann's L2 metric: every
+// distance here is squared and says so.
 #pragma once
 
 #include <cstdint>
@@ -22,12 +23,15 @@ class KdTree {
   KdTree& operator=(KdTree&&) noexcept;
 
   /// Indexes a copy of points (in the tree's leaf order: 24 B per point, plus a 4 B index and
-  /// ~6 B of nodes). At most 2^31 - 1 points.
+  /// 4-6 B of nodes; nanoflann's own tree, ~12 B per point, exists during the build only). At
+  /// most 2^31 - 1 points.
   Status build(const PointCloud& points);
 
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq
-  /// (inclusive), sorted by increasing distance; writes indices[0..n), dist_sq[0..n) and returns
-  /// n. Allocation-free. Thread-safe (const).
+  /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to
+  /// its cell exceeds radius_sq: kdtree_nanoflann.hpp), sorted by increasing distance; writes
+  /// indices[0..n), dist_sq[0..n) and returns n. The same result as nanoflann's own search.
+  /// Allocation-free. Thread-safe (const).
   int radius_knn(const Eigen::Vector3d& query, int k, double radius_sq, std::uint32_t* indices,
                  double* dist_sq) const;
 

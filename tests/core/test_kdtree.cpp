@@ -1,13 +1,16 @@
-// Tests of detail::KdTree::radius_knn against a brute-force scan of every point.
+// Tests of detail::KdTree::radius_knn against a brute-force scan of every point, and against
+// nanoflann's own search (the flat search in kdtree.cpp must return exactly what it returns).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdint>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core_test_util.hpp"
 #include "kdtree.hpp"
+#include "kdtree_nanoflann.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -249,4 +252,55 @@ TEST_CASE("radius_knn on an empty tree and with k < 1 returns 0", "[kdtree]") {
   KdTree t1;
   REQUIRE(t1.build(one).ok());
   CHECK(t1.radius_knn(Eigen::Vector3d::Zero(), 0, 1.0, idx, d) == 0);
+}
+
+// nanoflann's findNeighbors with the same result set is the reference: the same indices, the same
+// squared distances bit for bit, in the same order. Grid clouds with duplicates, queries on and
+// off the points, and radii set to a point's exact squared distance put many points exactly at
+// the radius, where the rounding of the search's cell bound decides (an addition in another order
+// than nanoflann's dropped or kept whole groups of such points).
+TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius)", "[kdtree]") {
+  Rng rng(77);
+  std::size_t queries = 0, at_radius = 0;
+  for (int c = 0; c < 24; ++c) {
+    const std::size_t n = 200 + rng() % 2800;
+    PointCloud cloud;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i > 0 && i % 3 != 0) {
+        cloud.push_back(cloud[rng() % i]);  // duplicates
+      } else {
+        cloud.emplace_back(0.1 * static_cast<double>(rng() % 10),
+                           0.1 * static_cast<double>(rng() % 10),
+                           0.1 * static_cast<double>(rng() % 10));
+      }
+    }
+    KdTree tree;
+    REQUIRE(tree.build(cloud).ok());
+    const ppcr::detail::CloudAdaptor adaptor{&cloud};
+    const ppcr::detail::Tree reference(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    for (int qi = 0; qi < 200; ++qi) {
+      Eigen::Vector3d q = cloud[rng() % n];
+      if (qi % 2 == 1) q[static_cast<int>(rng() % 3)] += 0.05 * static_cast<double>(rng() % 5);
+      const double radius_sq = dist_sq(q, cloud[rng() % n]);
+      const int k = qi % 4 == 0 ? 5000 : 1 + static_cast<int>(rng() % 40);
+      std::vector<std::uint32_t> got_index(static_cast<std::size_t>(k)),
+          ref_index(static_cast<std::size_t>(k));
+      std::vector<double> got_d(static_cast<std::size_t>(k)), ref_d(static_cast<std::size_t>(k));
+      const int got = tree.radius_knn(q, k, radius_sq, got_index.data(), got_d.data());
+      ppcr::detail::RadiusKnnResultSet result(k, radius_sq, ref_index.data(), ref_d.data());
+      reference.findNeighbors(result, q.data(), nanoflann::SearchParams(0, 0.0f, true));
+      const int expected = result.size();
+      ++queries;
+      for (int m = 0; m < expected; ++m)
+        at_radius += ref_d[static_cast<std::size_t>(m)] == radius_sq;
+      INFO("cloud " << c << ", query " << qi << ", k " << k);
+      REQUIRE(got == expected);
+      CHECK(std::equal(got_index.begin(), got_index.begin() + got, ref_index.begin()));
+      CHECK(std::memcmp(got_d.data(), ref_d.data(),
+                        static_cast<std::size_t>(got) * sizeof(double)) == 0);
+    }
+  }
+  // The cases must exercise points exactly at the radius.
+  CHECK(queries == 24 * 200);
+  CHECK(at_radius > queries);
 }

@@ -1,0 +1,78 @@
+// kdtree_nanoflann.hpp - nanoflann's side of the k-d tree (private): the dataset adaptor, the
+// radius-bounded kNN result set (nanoflann 1.4 has none) and the tree type. kdtree.cpp builds
+// with it; tests/core/test_kdtree.cpp runs nanoflann's own search with it, the reference the flat
+// search must equal.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <nanoflann.hpp>
+
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+// nanoflann's dataset adaptor over a std::vector<Eigen::Vector3d>.
+struct CloudAdaptor {
+  const PointCloud* points = nullptr;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(std::uint32_t i, std::size_t dim) const { return (*points)[i][dim]; }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const {
+    return false;  // let nanoflann compute it
+  }
+};
+
+// The k nearest within a radius: nanoflann's KNN result set with an upper bound. nanoflann
+// visits a candidate only if its squared distance is strictly below worstDist(); while fewer
+// than k are held, worstDist() is the next double above radius_sq, so a point exactly at the
+// radius is kept when the search reaches it (the radius is inclusive). The search's bound on a
+// cell's distance is rounded, and can exceed the distance of a point exactly at the radius by an
+// ulp and skip its cell: nanoflann's search and the flat one in kdtree.cpp both can. Once k are
+// held worstDist() is the k-th best, as in KNN.
+class RadiusKnnResultSet {
+ public:
+  using DistanceType = double;
+  using IndexType = std::uint32_t;
+
+  RadiusKnnResultSet(int capacity, double radius_sq, IndexType* indices, double* dist_sq)
+      : indices_(indices),
+        dist_sq_(dist_sq),
+        capacity_(capacity),
+        bound_(std::nextafter(radius_sq, std::numeric_limits<double>::infinity())) {}
+
+  int size() const { return count_; }
+  bool full() const { return count_ == capacity_; }
+  double worstDist() const { return full() ? dist_sq_[capacity_ - 1] : bound_; }
+
+  // Insertion into the sorted prefix; returns true to keep searching.
+  bool addPoint(double dist_sq, IndexType index) {
+    if (!(dist_sq < worstDist())) return true;
+    int i = (count_ < capacity_) ? count_ : capacity_ - 1;
+    while (i > 0 && dist_sq_[i - 1] > dist_sq) {
+      dist_sq_[i] = dist_sq_[i - 1];
+      indices_[i] = indices_[i - 1];
+      --i;
+    }
+    dist_sq_[i] = dist_sq;
+    indices_[i] = index;
+    if (count_ < capacity_) ++count_;
+    return true;
+  }
+
+ private:
+  IndexType* indices_;
+  double* dist_sq_;
+  int capacity_;
+  int count_ = 0;
+  double bound_;
+};
+
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<
+    nanoflann::L2_Simple_Adaptor<double, CloudAdaptor, double, std::uint32_t>, CloudAdaptor, 3,
+    std::uint32_t>;
+
+}  // namespace detail
+}  // namespace ppcr
