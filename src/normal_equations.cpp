@@ -208,18 +208,17 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   out->g.tail<3>() = -ebar;
 }
 
-Matrix6d NormalEquations::normal_information(const PointCloud& source, const PointCloud& target,
+Matrix6d NormalEquations::normal_information(const PointCloud& source,
                                              const AssociationTable& assoc,
                                              const Eigen::Isometry3d& T, const double* w,
-                                             const std::vector<Eigen::Vector3d>& normals) {
-  (void)target;
+                                             const std::vector<PlanePoint>& target_points) {
   Matrix6d H = Matrix6d::Zero();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   for (std::size_t j = 0; j < source.size(); ++j) {
     const std::size_t slot = j * k;
     Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
     for (std::size_t m = 0; m < assoc.count[j]; ++m) {
-      const Eigen::Vector3d& nk = normals[assoc.index[slot + m]];
+      const Eigen::Vector3d& nk = target_points[assoc.index[slot + m]].n;
       // A target point without a normal constrains all directions (Omega = I).
       if (nk.squaredNorm() > 0.0) {
         Obar.noalias() += (w[slot + m] * nk) * nk.transpose();

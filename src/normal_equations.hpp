@@ -95,9 +95,9 @@ class NormalEquations {
   /// for a target point without a normal): the information of the surface-normal part of the
   /// plane model alone (no epsilon), whose null directions are the motions the target's geometry
   /// leaves unconstrained. Serial; once per registration.
-  static Matrix6d normal_information(const PointCloud& source, const PointCloud& target,
-                                     const AssociationTable& assoc, const Eigen::Isometry3d& T,
-                                     const double* w, const std::vector<Eigen::Vector3d>& normals);
+  static Matrix6d normal_information(const PointCloud& source, const AssociationTable& assoc,
+                                     const Eigen::Isometry3d& T, const double* w,
+                                     const std::vector<PlanePoint>& target_points);
 
  private:
   // Per-block partial sums. Point model: S0, S1, S2 (H from 10 numbers, header comment);

@@ -7,7 +7,7 @@ namespace ppcr {
 namespace detail {
 
 void compute_pair_normals(const AssociationTable& assoc,
-                          const std::vector<Eigen::Vector3d>& target_normals,
+                          const std::vector<PlanePoint>& target_points,
                           const std::vector<Eigen::Vector3d>& source_normals,
                           const Eigen::Matrix3d& R_target_source, int num_threads,
                           std::vector<Eigen::Vector3d>* pair_normals) {
@@ -21,7 +21,7 @@ void compute_pair_normals(const AssociationTable& assoc,
     const bool has_source_normal = m.squaredNorm() > 0.0;
     for (std::size_t q = 0; q < count; ++q) {
       const std::size_t slot = j * k + q;
-      const Eigen::Vector3d& n = target_normals[assoc.index[slot]];
+      const Eigen::Vector3d& n = target_points[assoc.index[slot]].n;
       if (!has_source_normal || n.squaredNorm() == 0.0) {
         out[slot] = n;
         continue;

@@ -265,9 +265,9 @@ struct Registration::Impl {
   std::size_t target_non_finite = 0;
   bool has_target = false;
   detail::KdTree tree;
-  std::vector<Eigen::Vector3d> target_normals;          // plane model only
-  std::vector<detail::PlanePoint> target_plane_points;  // plane model only: points + normals
-  double target_surface_noise = 0.0;                    // plane model only (target_normals.hpp)
+  // Plane model only: the target's points and normals (the one copy of the normals).
+  std::vector<detail::PlanePoint> target_plane_points;
+  double target_surface_noise = 0.0;  // plane model only (target_normals.hpp)
   detail::PlaneModel plane;
   // Plane model with source normals only: the source's k-d tree and normals, one normal per
   // association slot.
@@ -306,11 +306,12 @@ Status Registration::set_target(const PointCloud& target) {
   s = m.tree.build(m.target_centered);
   if (!s.ok()) return s;
   if (m.options.error_model == ErrorModel::kPlane) {
+    std::vector<Eigen::Vector3d> normals;  // packed below, then freed
     std::vector<double> spread;
     detail::compute_normals(m.target_centered, m.tree, m.options.plane.normal_neighbours,
-                            m.options.num_threads, &m.target_normals, &spread);
+                            m.options.num_threads, &normals, &spread);
     m.target_surface_noise = detail::surface_noise(spread, &scratch);
-    detail::pack_plane_points(m.target_centered, m.target_normals, m.options.plane.epsilon,
+    detail::pack_plane_points(m.target_centered, normals, m.options.plane.epsilon,
                               &m.target_plane_points);
     m.plane.points = &m.target_plane_points;
     m.plane.epsilon = m.options.plane.epsilon;
@@ -440,7 +441,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       T_associated = T;
       // Source normals: each pair's normal, frozen until the next re-association.
       if (use_pair_normals) {
-        detail::compute_pair_normals(m.assoc, m.target_normals, m.source_normals, T.linear(),
+        detail::compute_pair_normals(m.assoc, m.target_plane_points, m.source_normals, T.linear(),
                                      o.num_threads, &m.pair_normals);
       }
     }
@@ -532,7 +533,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   result.information = m.lm.last().H;
   if (o.error_model == ErrorModel::kPlane && result.iterations > 0) {
     const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
-        m.source_centered, m.target_centered, m.assoc, T, m.lm.weights().data(), m.target_normals);
+        m.source_centered, m.assoc, T, m.lm.weights().data(), m.target_plane_points);
     const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
     detail::Vector6d scaling;
     scaling << rms, rms, rms, 1.0, 1.0, 1.0;

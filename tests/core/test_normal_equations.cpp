@@ -566,7 +566,9 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a
       ref += w[j * k + m] * J.transpose() * nnT * J;
     }
   }
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
   const Matrix6d got =
-      NormalEquations::normal_information(pb.source, pb.target, pb.assoc, pb.T, w.data(), normals);
+      NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(), points);
   CHECK(rel_diff(got, ref) < 1e-12);
 }

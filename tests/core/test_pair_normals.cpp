@@ -26,6 +26,7 @@ Eigen::Vector3d reference(const Eigen::Vector3d& n, const Eigen::Vector3d& m,
 struct Case {
   ppcr::detail::AssociationTable assoc;
   std::vector<Eigen::Vector3d> target_normals, source_normals;
+  std::vector<ppcr::detail::PlanePoint> target_points;  // target_normals packed (at the origin)
   Eigen::Matrix3d R;
 };
 
@@ -49,6 +50,8 @@ Case make_case(std::uint64_t seed) {
   for (std::size_t i = 0; i < n_target; ++i) {
     c.target_normals[i] = i % 7 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
   }
+  ppcr::detail::pack_plane_points(ppcr::PointCloud(n_target, Eigen::Vector3d::Zero()),
+                                  c.target_normals, 0.05, &c.target_points);
   c.source_normals.resize(n_source);
   for (std::size_t j = 0; j < n_source; ++j) {
     c.source_normals[j] = j % 5 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
@@ -61,7 +64,7 @@ Case make_case(std::uint64_t seed) {
 std::vector<Eigen::Vector3d> run(const Case& c, int threads) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<Eigen::Vector3d> out(c.assoc.index.size(), Eigen::Vector3d::Constant(nan));
-  ppcr::detail::compute_pair_normals(c.assoc, c.target_normals, c.source_normals, c.R, threads,
+  ppcr::detail::compute_pair_normals(c.assoc, c.target_points, c.source_normals, c.R, threads,
                                      &out);
   return out;
 }
