@@ -213,6 +213,10 @@ Status validate(const RegistrationOptions& o) {
   if (!non_negative(lm.function_tolerance)) {
     return invalid("lm.function_tolerance must be >= 0, got " + num(lm.function_tolerance));
   }
+  if (!non_negative(lm.fine_function_tolerance)) {
+    return invalid("lm.fine_function_tolerance must be >= 0, got " +
+                   num(lm.fine_function_tolerance));
+  }
   if (!non_negative(lm.gradient_tolerance)) {
     return invalid("lm.gradient_tolerance must be >= 0, got " + num(lm.gradient_tolerance));
   }
@@ -468,7 +472,13 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     // then keep z = 0 (not 0 * Inf = NaN).
     problem.weights.inv_scale_sq = std::min(1.0 / scale_sq, std::numeric_limits<double>::max());
 
-    const LMSummary lm = m.lm.solve(o.lm, problem, &T);
+    // EM fine phase: the looser inner tolerance, if set (lm.hpp).
+    LMOptions lm_options = o.lm;
+    if (o.lm.fine_function_tolerance > 0.0 && o.weights.scale_mode == ScaleMode::kEM &&
+        !scale.coarse()) {
+      lm_options.function_tolerance = o.lm.fine_function_tolerance;
+    }
+    const LMSummary lm = m.lm.solve(lm_options, problem, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;
     if (t == 1) result.initial_cost = lm.initial_cost;

@@ -215,6 +215,12 @@ std::vector<BadOption> bad_options_vague_message() {
       {"lm.function_tolerance -1",
        [](O& o) { o.lm.function_tolerance = -1.0; },
        {"function_tolerance", "-1"}},
+      {"lm.fine_function_tolerance -1",
+       [](O& o) { o.lm.fine_function_tolerance = -1.0; },
+       {"fine_function_tolerance", "-1"}},
+      {"lm.fine_function_tolerance NaN",
+       [](O& o) { o.lm.fine_function_tolerance = kNaN; },
+       {"fine_function_tolerance", "nan"}},
       {"lm.gradient_tolerance NaN",
        [](O& o) { o.lm.gradient_tolerance = kNaN; },
        {"gradient_tolerance", "nan"}},
@@ -797,6 +803,60 @@ TEST_CASE("the plane model recovers the pose on the synthetic scene", "[registra
   }
   // The option reaches the solver: source normals change the result.
   CHECK(pose[0] != pose[1]);
+}
+
+TEST_CASE("lm.fine_function_tolerance loosens the inner solves of the EM fine phase only",
+          "[registration]") {
+  const Scene sc = make_scene(3000, 20000, false);
+  RegistrationOptions o = scene_options();
+  o.error_model = ppcr::ErrorModel::kPlane;
+  const RegistrationResult tight = ppcr::align(sc.source, sc.target, o);
+  o.lm.fine_function_tolerance = 1e-2;
+  const RegistrationResult loose = ppcr::align(sc.source, sc.target, o);
+  INFO("tight: " << describe(tight) << ", " << tight.lm_iterations << " LM steps; loose: "
+                 << describe(loose) << ", " << loose.lm_iterations << " LM steps");
+  REQUIRE(tight.status.ok());
+  REQUIRE(loose.status.ok());
+  // The coarse phase runs at the coarse scale (radius / 2): those rows, up to the first one at a
+  // smaller scale, are the same computation in both runs, bit for bit.
+  const double coarse_scale = tight.history.front().scale;
+  std::size_t coarse_rows = 0;
+  while (coarse_rows < tight.history.size() && tight.history[coarse_rows].scale == coarse_scale) {
+    ++coarse_rows;
+  }
+  REQUIRE(coarse_rows >= 1);
+  REQUIRE(coarse_rows < tight.history.size());  // the run reached the fine phase
+  REQUIRE(loose.history.size() > coarse_rows);
+  for (std::size_t t = 0; t < coarse_rows; ++t) {
+    INFO("iteration " << t + 1);
+    CHECK(loose.history[t].scale == tight.history[t].scale);
+    CHECK(loose.history[t].successful_steps == tight.history[t].successful_steps);
+    CHECK(loose.history[t].T_target_source.matrix() == tight.history[t].T_target_source.matrix());
+  }
+  CHECK(loose.history[coarse_rows].scale < coarse_scale);
+  // The fine phase's inner solves stop earlier: fewer LM steps per fine iteration on average.
+  auto fine_steps_per_iteration = [&](const RegistrationResult& r) {
+    double steps = 0.0;
+    for (std::size_t t = coarse_rows; t < r.history.size(); ++t) {
+      steps += r.history[t].successful_steps + r.history[t].unsuccessful_steps;
+    }
+    return steps / static_cast<double>(r.history.size() - coarse_rows);
+  };
+  CHECK(fine_steps_per_iteration(loose) < fine_steps_per_iteration(tight));
+  // Same accuracy bar as the plane model's own test.
+  CHECK(loose.converged());
+  CHECK(rotation_error_deg(loose.T_target_source, sc.T_true) < 0.1);
+  CHECK(ppcr::translation_error(loose.T_target_source, sc.T_true) < 2e-3);
+
+  // A fixed scale has no EM phases: the option changes nothing.
+  o.weights.scale_mode = ppcr::ScaleMode::kFixed;
+  o.weights.scale = 0.05;
+  const RegistrationResult fixed_loose = ppcr::align(sc.source, sc.target, o);
+  o.lm.fine_function_tolerance = 0.0;
+  const RegistrationResult fixed_tight = ppcr::align(sc.source, sc.target, o);
+  REQUIRE(fixed_tight.status.ok());
+  CHECK(fixed_loose.lm_iterations == fixed_tight.lm_iterations);
+  CHECK(fixed_loose.T_target_source.matrix() == fixed_tight.T_target_source.matrix());
 }
 
 TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surface noise",

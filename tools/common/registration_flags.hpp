@@ -39,6 +39,8 @@ struct RegistrationFlags {
   double scale_shrink = ppcr::WeightOptions().em_min_shrink;  // EM: s^2 shrink limit per iteration
   double reassociate_motion = ppcr::RegistrationOptions().reassociate_motion;
   int neighbour_cache = ppcr::RegistrationOptions().neighbour_cache;
+  double lm_tolerance = ppcr::LMOptions().function_tolerance;            // inner LM
+  double lm_fine_tolerance = ppcr::LMOptions().fine_function_tolerance;  // EM fine phase (0 = off)
   double source_voxel = 0.0;
   double target_voxel = 0.0;
   int threads = 1;
@@ -48,7 +50,7 @@ struct RegistrationFlags {
 /// --criterion, --cost-drop-threshold, --patience, --max-iterations, --mse-ratio, --mse-patience,
 /// --steps-threshold, --error-model, --plane-epsilon, --normal-neighbours, --source-normals,
 /// --noise-floor, --motion-guard, --coarse-patience, --scale-shrink, --neighbour-cache,
-/// --source-voxel, --target-voxel, --threads.
+/// --lm-tolerance, --lm-fine-tolerance, --source-voxel, --target-voxel, --threads.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// Validates the flags and fills options. The message names the flag and the value seen.

@@ -1,0 +1,77 @@
+// The registration flags of ppcr_cli and ppcr_bench (tools/common/registration_flags.hpp):
+// parsed values reach RegistrationOptions, defaults are the library's, and a bad value is
+// refused with a message naming the flag and the value seen.
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "common/registration_flags.hpp"
+
+namespace {
+
+struct Parsed {
+  ppcr::Status status;
+  ppcr::RegistrationOptions options;
+};
+
+Parsed parse(const std::string& command_line) {
+  CLI::App app;
+  ppcr_tools::RegistrationFlags flags;
+  ppcr_tools::add_registration_flags(app, &flags);
+  app.parse(command_line, false);
+  Parsed p;
+  p.status = ppcr_tools::to_options(flags, &p.options);
+  return p;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("no flags give the library's default options", "[tools]") {
+  const Parsed p = parse("");
+  REQUIRE(p.status.ok());
+  const ppcr::RegistrationOptions defaults;
+  CHECK(p.options.radius == defaults.radius);
+  CHECK(p.options.max_neighbours == defaults.max_neighbours);
+  CHECK(p.options.error_model == defaults.error_model);
+  CHECK(p.options.neighbour_cache == defaults.neighbour_cache);
+  CHECK(p.options.lm.function_tolerance == defaults.lm.function_tolerance);
+  CHECK(p.options.lm.fine_function_tolerance == defaults.lm.fine_function_tolerance);
+  CHECK(p.options.weights.em_min_shrink == defaults.weights.em_min_shrink);
+}
+
+TEST_CASE("the LM tolerance flags reach the LM options", "[tools]") {
+  const Parsed p = parse("--lm-tolerance 0.001 --lm-fine-tolerance 0.02 --radius 0.5");
+  REQUIRE(p.status.ok());
+  CHECK(p.options.lm.function_tolerance == 0.001);
+  CHECK(p.options.lm.fine_function_tolerance == 0.02);
+  CHECK(p.options.radius == 0.5);
+  CHECK(ppcr::validate(p.options).ok());
+}
+
+TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]") {
+  struct Bad {
+    const char* line;
+    const char* flag;
+    const char* value;
+  };
+  const Bad cases[] = {
+      {"--lm-tolerance -1", "--lm-tolerance", "-1"},
+      {"--lm-tolerance nan", "--lm-tolerance", "nan"},
+      {"--lm-fine-tolerance -0.5", "--lm-fine-tolerance", "-0.5"},
+      {"--lm-fine-tolerance inf", "--lm-fine-tolerance", "inf"},
+      {"--lm-fine-tolerance 0.01 --scale raw", "--lm-fine-tolerance", "raw"},
+      {"--scale-shrink 0", "--scale-shrink", "0"},
+      {"--neighbour-cache -2", "--neighbour-cache", "-2"},
+      {"--radius -1", "--radius", "-1"},
+  };
+  for (const Bad& b : cases) {
+    const Parsed p = parse(b.line);
+    INFO(b.line << " -> " << p.status.to_string());
+    CHECK_FALSE(p.status.ok());
+    CHECK(contains(p.status.message(), b.flag));
+    CHECK(contains(p.status.message(), b.value));
+  }
+}
