@@ -97,8 +97,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "EM scale: the inner LM's --lm-tolerance once the scale has left its coarse "
                  "phase (default " +
                      str(f->lm_fine_tolerance) +
-                     " = --lm-tolerance throughout; 1e-2: 12-13 % faster with the plane model, "
-                     "docs/PERFORMANCE.md)");
+                     " = --lm-tolerance throughout; keep it <= --cost-drop-threshold; 1e-2: "
+                     "about a third fewer LM steps with the plane model, docs/PERFORMANCE.md)");
   app.add_option("--reassociate-motion", f->reassociate_motion,
                  "re-associate only when a source point may have moved more than this fraction "
                  "of the radius since the last association (default " +
