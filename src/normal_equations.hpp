@@ -108,7 +108,7 @@ class NormalEquations {
     Eigen::Matrix3d S2;
     Matrix6d H;
   };
-  template <bool kPlane, class Kernel>
+  template <bool kPlane, bool kPairNormals, class Kernel>
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
             double* w_new, double* r_sq, int num_threads, const PlaneModel* plane);
