@@ -65,7 +65,7 @@ struct KdTree::Impl {
         const double dx = q[0] - y[0], dy = q[1] - y[1], dz = q[2] - y[2];
         const double d = dx * dx + dy * dy + dz * dz;
         if (d < worst) {
-          result.addPoint(d, index[i]);
+          result.insert(d, index[i]);
           worst = result.worstDist();
         }
       }
@@ -151,6 +151,8 @@ int KdTree::radius_knn(const Eigen::Vector3d& query, int k, double radius_sq,
 }
 
 std::size_t KdTree::size() const { return impl_->index.size(); }
+
+const std::vector<std::uint32_t>& KdTree::leaf_order() const { return impl_->index; }
 
 }  // namespace detail
 }  // namespace ppcr

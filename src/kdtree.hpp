@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
@@ -36,6 +37,10 @@ class KdTree {
                  double* dist_sq) const;
 
   std::size_t size() const;
+
+  /// The indexed points' indices in the tree's leaf order (spatially coherent: queries made in
+  /// this order reuse the same nodes and leaves).
+  const std::vector<std::uint32_t>& leaf_order() const;
 
  private:
   struct Impl;

@@ -41,15 +41,20 @@ class RadiusKnnResultSet {
       : indices_(indices),
         dist_sq_(dist_sq),
         capacity_(capacity),
-        bound_(std::nextafter(radius_sq, std::numeric_limits<double>::infinity())) {}
+        worst_(std::nextafter(radius_sq, std::numeric_limits<double>::infinity())) {}
 
   int size() const { return count_; }
   bool full() const { return count_ == capacity_; }
-  double worstDist() const { return full() ? dist_sq_[capacity_ - 1] : bound_; }
+  double worstDist() const { return worst_; }
 
   // Insertion into the sorted prefix; returns true to keep searching.
   bool addPoint(double dist_sq, IndexType index) {
-    if (!(dist_sq < worstDist())) return true;
+    if (dist_sq < worst_) insert(dist_sq, index);
+    return true;
+  }
+
+  // addPoint for a caller that has checked dist_sq < worstDist() (the flat search's leaf loop).
+  void insert(double dist_sq, IndexType index) {
     int i = (count_ < capacity_) ? count_ : capacity_ - 1;
     while (i > 0 && dist_sq_[i - 1] > dist_sq) {
       dist_sq_[i] = dist_sq_[i - 1];
@@ -59,7 +64,7 @@ class RadiusKnnResultSet {
     dist_sq_[i] = dist_sq;
     indices_[i] = index;
     if (count_ < capacity_) ++count_;
-    return true;
+    if (count_ == capacity_) worst_ = dist_sq_[capacity_ - 1];
   }
 
  private:
@@ -67,7 +72,7 @@ class RadiusKnnResultSet {
   double* dist_sq_;
   int capacity_;
   int count_ = 0;
-  double bound_;
+  double worst_;  // the bound below until full, then the k-th best
 };
 
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<

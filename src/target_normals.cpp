@@ -18,10 +18,13 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   const double unbounded = std::numeric_limits<double>::max();
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(points.size()), [&](std::ptrdiff_t i) {
+  // Points in the tree's leaf order: consecutive queries start from the same leaf.
+  const std::vector<std::uint32_t>& order = tree.leaf_order();
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t ii) {
+    const std::uint32_t i = order[static_cast<std::size_t>(ii)];
     std::uint32_t idx[kMaxNeighbours];
     double d2[kMaxNeighbours];
-    const Eigen::Vector3d& q = points[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d& q = points[i];
     const int n = tree.radius_knn(q, k, unbounded, idx, d2);
     if (n < 5) return;
     // Covariance about the neighbourhood's mean (two passes: no cancellation).
@@ -43,9 +46,9 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     const Eigen::Vector3d lambda = eig.eigenvalues();
     const bool has_plane = lambda[1] > 1e-6 * lambda[2];
     if (has_plane && normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
-      (*normals)[static_cast<std::size_t>(i)] = normal;
+      (*normals)[i] = normal;
       if (spread != nullptr) {
-        (*spread)[static_cast<std::size_t>(i)] = std::sqrt(std::max(lambda[0], 0.0));
+        (*spread)[i] = std::sqrt(std::max(lambda[0], 0.0));
       }
     }
   });
