@@ -3,6 +3,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -20,6 +21,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   const double unbounded = std::numeric_limits<double>::max();
   // Points in the tree's leaf order: consecutive queries start from the same leaf.
   const std::vector<std::uint32_t>& order = tree.leaf_order();
+  assert(order.size() == points.size());
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t ii) {
     const std::uint32_t i = order[static_cast<std::size_t>(ii)];
     std::uint32_t idx[kMaxNeighbours];

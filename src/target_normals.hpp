@@ -17,6 +17,8 @@ namespace detail {
 /// directions (middle eigenvalue <= 1e-6 of the largest). Allocation-free per point.
 /// If spread is not null, spread[i] = sqrt(smallest eigenvalue): the RMS distance of the fit's
 /// points from their plane (cloud units), or -1 where normals[i] is zero.
+/// Precondition: tree was built over exactly `points` (the points are visited in its leaf order;
+/// asserted).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr);
 
