@@ -14,7 +14,6 @@ void LMSolver::resize(std::size_t source_points, int k) {
   const std::size_t slots = source_points * static_cast<std::size_t>(k);
   w_current_.assign(slots, 0.0);
   w_trial_.assign(slots, 0.0);
-  r_sq_.assign(slots, 0.0);
   normal_equations_.resize(source_points);
 }
 
@@ -23,7 +22,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
   auto evaluate = [&](const Eigen::Isometry3d& pose, const double* w_prev, double* w_new,
                       Evaluation* out) {
     normal_equations_.evaluate(*pb.source, *pb.target, *pb.assoc, pb.weights, pose, w_prev, w_new,
-                               r_sq_.data(), pb.num_threads, out, pb.plane);
+                               nullptr, pb.num_threads, out, pb.plane);
   };
 
   evaluate(*T, nullptr, w_current_.data(), &current_);

@@ -39,7 +39,7 @@ class LMSolver {
 
  private:
   NormalEquations normal_equations_;
-  std::vector<double> w_current_, w_trial_, r_sq_;
+  std::vector<double> w_current_, w_trial_;
   Evaluation current_, trial_;
 };
 

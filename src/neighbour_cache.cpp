@@ -11,8 +11,9 @@ namespace ppcr {
 namespace detail {
 namespace {
 
-// Squared distances of targets idx[0..n) to p: the one formula of every path below, so that the
-// table's distances and tie order never depend on the path a point took.
+// Squared distances of targets idx[0..n) to p: the formula of every path below. (A query's
+// candidates come with the tree's distances, which equal these to the bit: tests/core/
+// test_kdtree.cpp.) So the table's distances and tie order never depend on the path taken.
 void distances(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
                double* d) {
   for (int c = 0; c < n; ++c) d[c] = (target[idx[c]] - p).squaredNorm();
@@ -30,14 +31,12 @@ void insert_sorted(int i, double dist, std::uint32_t id, std::uint32_t* out_idx,
   out_idx[i] = id;
 }
 
-// Re-ranks candidates idx[0..n) by squared distance to p into the table slots out_idx/out_d
-// (ascending; ties by target index), keeping at most k within radius_sq. Returns the count.
-// *left_out_sq is set to the smallest squared distance of a candidate not kept (+inf if none).
-int rerank(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
-           int k, double radius_sq, std::uint32_t* out_idx, double* out_d, double* left_out_sq) {
-  // Distances first (independent gathers the CPU overlaps), then the branchy selection.
-  double dist[NeighbourCache::kMaxCapacity];
-  distances(target, p, idx, n, dist);
+// Re-ranks candidates idx[0..n), at squared distances dist[0..n) from p, into the table slots
+// out_idx/out_d (ascending; ties by target index), keeping at most k within radius_sq. Returns
+// the count. *left_out_sq is set to the smallest squared distance of a candidate not kept (+inf
+// if none).
+int rerank(const std::uint32_t* idx, const double* dist, int n, int k, double radius_sq,
+           std::uint32_t* out_idx, double* out_d, double* left_out_sq) {
   int held = 0;
   double left_out = std::numeric_limits<double>::infinity();
   for (int c = 0; c < n; ++c) {
@@ -136,8 +135,11 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         return;
       }
       const double delta = (p - cache->query[j]).norm();
+      // Distances first (independent gathers the CPU overlaps), then the branchy selection.
+      double cand_d[NeighbourCache::kMaxCapacity];
+      distances(target, p, cand, cache->count[j], cand_d);
       const int n =
-          rerank(target, p, cand, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
+          rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
       const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
       const double kth = n == k ? m : radius;
       if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
@@ -147,15 +149,16 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
       }
     }
     // Re-query: the K nearest within r_c around p (their distances go to a stack buffer), then
-    // the same re-rank as a cache hit, so that the table's distances and tie order never depend
-    // on which path a point took.
+    // the same re-rank as a cache hit, so that the table's tie order never depends on which path
+    // a point took. The tree's distances are those distances() computes, to the bit: the same
+    // coordinates, differences negated (squares equal), summed (x + y) + z.
     double cand_d[NeighbourCache::kMaxCapacity];
     const int found = target_tree.radius_knn(p, capacity, candidate_radius_sq, cand, cand_d);
     cache->count[j] = static_cast<std::uint16_t>(found);
     cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;
     cache->query[j] = p;
     cache->path[j] = NeighbourCache::kQueried;
-    const int n = rerank(target, p, cand, found, k, radius_sq, out_idx, out_d, &left_out_sq);
+    const int n = rerank(cand, cand_d, found, k, radius_sq, out_idx, out_d, &left_out_sq);
     ranked(n, n > 0 ? std::sqrt(out_d[n - 1]) : 0.0,
            std::min(std::sqrt(left_out_sq), cache->bound[j]));
   });

@@ -2,6 +2,7 @@
 #include "normal_equations.hpp"
 
 #include <cstdint>
+#include <type_traits>
 
 #include "parallel.hpp"
 #include "ppcr/se3.hpp"
@@ -50,6 +51,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    // Without r_sq, a point's squared errors live on the stack (read back within the point).
+    double r_local[AssociationTable::kMaxNeighbours];
     BlockSums s;
     s.S0 = s.cost = s.cost_prev = 0.0;
     s.S1.setZero();
@@ -64,7 +67,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       if (count == 0) continue;
       const std::size_t slot = j * k;
       const std::uint32_t* idx = &assoc.index[slot];
-      double* r = &r_sq[slot];
+      double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
       double* w = &w_new[slot];
       const Eigen::Vector3d p = R * source[j] + t;
       // Squared errors of the point's pairs (Mahalanobis for the plane model), and the cost
@@ -177,20 +180,22 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
                                double* r_sq, int num_threads, Evaluation* out,
                                const PlaneModel* plane) {
+  // The pass needs c and u only: no log-sum-exp (two logarithms per point). The error model
+  // and the pair normals are template parameters of the pass (tags here), so that its per-pair
+  // loops carry no model branches.
   const bool use_plane = plane != nullptr && plane->points != nullptr;
-  // The pass needs c and u only: no log-sum-exp (two logarithms per point).
+  const bool use_pair_normals = use_plane && plane->pair_normals != nullptr;
+  auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
+    pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
+        e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+  };
   with_weight_kernel<false>(weights.model, weights.dof, weights.inv_scale_sq,
                             [&](const auto& e_step) {
-                              if (use_plane && plane->pair_normals != nullptr) {
-                                pass<true, true>(e_step, source, target, assoc, T, w_prev, w_new,
-                                                 r_sq, num_threads, plane);
-                              } else if (use_plane) {
-                                pass<true, false>(e_step, source, target, assoc, T, w_prev, w_new,
-                                                  r_sq, num_threads, plane);
-                              } else {
-                                pass<false, false>(e_step, source, target, assoc, T, w_prev, w_new,
-                                                   r_sq, num_threads, plane);
-                              }
+                              using Yes = std::true_type;
+                              using No = std::false_type;
+                              if (use_pair_normals) return run(e_step, Yes(), Yes());
+                              if (use_plane) return run(e_step, Yes(), No());
+                              run(e_step, No(), No());
                             });
 
   // Ordered reduction over blocks: independent of the thread count.

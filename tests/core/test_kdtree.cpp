@@ -76,6 +76,13 @@ std::string query_mismatch(const KdTree& tree, const PointCloud& cloud, const Ei
       why << "slot " << m << ": distance " << d[um] << " is not that of index " << idx[um];
       return why.str();
     }
+    // To the bit what Eigen computes for the pair: associate_cached (neighbour_cache.cpp)
+    // re-ranks a query's candidates by the tree's distances and a cache hit's by Eigen's.
+    if (d[um] != (cloud[idx[um]] - q).squaredNorm()) {
+      why << "slot " << m << ": distance " << d[um] << " differs in its last bits from "
+          << "(y - q).squaredNorm()";
+      return why.str();
+    }
     if (d[um] > radius_sq * (1.0 + tol)) return why.str() + "outside the radius";
     if (m > 0 && d[um - 1] > d[um]) return why.str() + "not sorted";
     if (std::abs(d[um] - ref[um].dist_sq) > tol * (1.0 + d[um])) {

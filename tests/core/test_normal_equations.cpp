@@ -170,16 +170,18 @@ struct Output {
   std::vector<double> w, r_sq;
 };
 
+// with_r_sq = false: no squared-error array (as the LM solver calls it); out.r_sq stays empty.
 Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T,
-           const double* w_prev, int threads, const ppcr::detail::PlaneModel* plane = nullptr) {
+           const double* w_prev, int threads, const ppcr::detail::PlaneModel* plane = nullptr,
+           bool with_r_sq = true) {
   NormalEquations ne;
   ne.resize(pb.source.size());
   Output out;
   const std::size_t slots = pb.source.size() * static_cast<std::size_t>(pb.assoc.k);
   out.w.assign(slots, 0.0);
-  out.r_sq.assign(slots, 0.0);
-  ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w_prev, out.w.data(), out.r_sq.data(), threads,
-              &out.eval, plane);
+  if (with_r_sq) out.r_sq.assign(slots, 0.0);
+  ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w_prev, out.w.data(),
+              with_r_sq ? out.r_sq.data() : nullptr, threads, &out.eval, plane);
   return out;
 }
 
@@ -385,6 +387,37 @@ TEST_CASE("evaluate is bit-identical with 1 and 2 threads (~10k points, blocks o
     CHECK(one.eval.weight_sum == two.eval.weight_sum);
     CHECK(one.w == two.w);
     CHECK(one.r_sq == two.r_sq);
+  }
+}
+
+TEST_CASE("evaluate without the r_sq array gives the same weights and sums, both models",
+          "[normal_equations]") {
+  const Problem pb = make_problem(67, 3000, 10, 0.08);
+  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 68);
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
+  ppcr::detail::PlaneModel plane;
+  plane.points = &points;
+  plane.epsilon = 0.05;
+  Rng rng(69);
+  std::vector<double> w_prev(pb.source.size() * 10);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
+  for (const ppcr::detail::PlaneModel* model :
+       {static_cast<ppcr::detail::PlaneModel*>(nullptr), &plane}) {
+    for (const WeightParams& wp : weight_params()) {
+      for (int threads : {1, 2}) {
+        const Output with = run(pb, wp, pb.T, w_prev.data(), threads, model);
+        const Output without = run(pb, wp, pb.T, w_prev.data(), threads, model, false);
+        INFO("plane " << (model != nullptr) << " threads " << threads);
+        CHECK(without.eval.H == with.eval.H);
+        CHECK(without.eval.g == with.eval.g);
+        CHECK(without.eval.cost == with.eval.cost);
+        CHECK(without.eval.cost_prev_weights == with.eval.cost_prev_weights);
+        CHECK(without.eval.weight_sum == with.eval.weight_sum);
+        CHECK(without.w == with.w);
+        CHECK(without.r_sq.empty());
+      }
+    }
   }
 }
 
