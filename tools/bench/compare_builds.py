@@ -5,7 +5,8 @@
         [-- extra ppcr_bench options]
 
 Runs every build R times on the first N problems of each set (interleaved: build 1, build 2,
-..., then the next repetition), one thread, with the protocol of the docs' reference figures.
+..., then the next repetition), one thread, with the protocol of the docs' reference figures
+(tools/bench/protocol.txt).
 Per build it prints the sum over problems of each problem's minimum time over the repetitions
 (the minimum drops the runs another process slowed down), the median of those minima, and the
 median and 0.95 quantile of the error and the mean iterations of the last repetition (errors
@@ -19,10 +20,15 @@ import subprocess
 import sys
 import tempfile
 
-PROTOCOL = {
-    'bunny': '--radius 0.02 --source-voxel 0.002 --target-voxel 0.002 --success-translation 0.002',
-    'lidar': '--radius 1 --source-voxel 0.2 --target-voxel 0.2 --success-translation 0.1',
-}
+def read_protocol(path):
+    """tools/bench/protocol.txt: {set: ppcr_bench options}, the one definition of the protocol."""
+    protocol = {}
+    with open(path) as f:
+        for line in f:
+            if line.strip() and not line.startswith('#'):
+                name, _, options = line.strip().partition(' ')
+                protocol[name] = options
+    return protocol
 
 
 def quantile(values, q):
@@ -49,6 +55,11 @@ def main():
     parser.add_argument('--data', default=os.path.join(root, '..', 'shared', 'data', 'benchmark'),
                         help='folder of the problem files (default ../shared/data/benchmark)')
     args = parser.parse_args(argv)
+    protocol_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'protocol.txt')
+    protocol = read_protocol(protocol_file)
+    for s in args.sets.split():
+        if s not in protocol:
+            sys.exit(f"compare_builds.py: no protocol for set '{s}' in {protocol_file}")
     with tempfile.TemporaryDirectory() as tmp:
         for s in args.sets.split():
             times = {b: {} for b in args.benches}
@@ -56,7 +67,7 @@ def main():
             for _ in range(args.reps):
                 for i, b in enumerate(args.benches):
                     out = os.path.join(tmp, f'{i}.csv')
-                    cmd = [b, os.path.join(args.data, f'{s}_local.txt'), *PROTOCOL[s].split(),
+                    cmd = [b, os.path.join(args.data, f'{s}_local.txt'), *protocol[s].split(),
                            '--threads', '1', '--quiet', '--limit', str(args.limit), '--out', out,
                            *extra]
                     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)

@@ -70,10 +70,8 @@ echo "== end-to-end: ppcr_bench, first $limit problems per set, 1 and 2 threads"
   echo "|---|---|---|---|---|---|---|---|---|"
 } >>"$md"
 for s in bunny lidar; do
-  case $s in
-    bunny) proto="--radius 0.02 --source-voxel 0.002 --target-voxel 0.002" ;;
-    lidar) proto="--radius 1 --source-voxel 0.2 --target-voxel 0.2" ;;
-  esac
+  proto=$(grep -m1 "^$s " "$root/tools/bench/protocol.txt")  # the benchmark protocol
+  proto=${proto#"$s" }
   for run in "defaults|1|" "defaults|2|" "--reassociate-motion 0.05|1|--reassociate-motion 0.05"; do
     IFS='|' read -r name t extra <<<"$run"
     tag="bench_${s}_t${t}_${extra//[^0-9a-z]/}"

@@ -44,13 +44,12 @@ mkdir -p "$out"
 methods=$("$bench" --help | tr '\n' ' ' | sed -n 's/.*registration method:\([^(]*\)(default.*/\1/p')
 [[ -n $methods ]] || { echo "run_all.sh: cannot read the method list from --help" >&2; exit 1; }
 
-# The protocol of the reference figures, per set.
+# The protocol of the reference figures, per set (tools/bench/protocol.txt).
 protocol() {
-  case $1 in
-    bunny) echo "--radius 0.02 --source-voxel 0.002 --target-voxel 0.002 --success-translation 0.002" ;;
-    lidar) echo "--radius 1 --source-voxel 0.2 --target-voxel 0.2 --success-translation 0.1" ;;
-    *) echo "run_all.sh: no protocol for set '$1'" >&2; exit 1 ;;
-  esac
+  local line
+  line=$(grep -m1 "^$1 " "$root/tools/bench/protocol.txt") ||
+    { echo "run_all.sh: no protocol for set '$1' in tools/bench/protocol.txt" >&2; exit 1; }
+  echo "${line#"$1" }"
 }
 
 # Runs: label|ppcr_bench arguments. ppcr in nine variants, then every peer.
