@@ -61,9 +61,7 @@ struct KdTree::Impl {
       const std::uint32_t end = node->axis & ~kLeaf;
       double worst = result.worstDist();
       for (std::uint32_t i = node->second; i < end; ++i) {
-        const double* y = &xyz[3 * static_cast<std::size_t>(i)];
-        const double dx = q[0] - y[0], dy = q[1] - y[1], dz = q[2] - y[2];
-        const double d = dx * dx + dy * dy + dz * dz;
+        const double d = squared_distance(q, &xyz[3 * static_cast<std::size_t>(i)]);
         if (d < worst) {
           result.insert(d, index[i]);
           worst = result.worstDist();

@@ -1,6 +1,7 @@
 // normal_equations.cpp - fused residuals / weights / normal equations pass (see header).
 #include "normal_equations.hpp"
 
+#include <cassert>
 #include <cstdint>
 #include <type_traits>
 
@@ -183,6 +184,8 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   // The pass needs c and u only: no log-sum-exp (two logarithms per point). The error model
   // and the pair normals are template parameters of the pass (tags here), so that its per-pair
   // loops carry no model branches.
+  // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
+  assert(assoc.k <= AssociationTable::kMaxNeighbours);
   const bool use_plane = plane != nullptr && plane->points != nullptr;
   const bool use_pair_normals = use_plane && plane->pair_normals != nullptr;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
@@ -193,9 +196,13 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                             [&](const auto& e_step) {
                               using Yes = std::true_type;
                               using No = std::false_type;
-                              if (use_pair_normals) return run(e_step, Yes(), Yes());
-                              if (use_plane) return run(e_step, Yes(), No());
-                              run(e_step, No(), No());
+                              if (use_pair_normals) {
+                                run(e_step, Yes(), Yes());
+                              } else if (use_plane) {
+                                run(e_step, Yes(), No());
+                              } else {
+                                run(e_step, No(), No());
+                              }
                             });
 
   // Ordered reduction over blocks: independent of the thread count.

@@ -76,11 +76,11 @@ std::string query_mismatch(const KdTree& tree, const PointCloud& cloud, const Ei
       why << "slot " << m << ": distance " << d[um] << " is not that of index " << idx[um];
       return why.str();
     }
-    // To the bit what Eigen computes for the pair: associate_cached (neighbour_cache.cpp)
-    // re-ranks a query's candidates by the tree's distances and a cache hit's by Eigen's.
-    if (d[um] != (cloud[idx[um]] - q).squaredNorm()) {
+    // To the bit squared_distance(q, y): associate_cached (neighbour_cache.cpp) re-ranks a
+    // query's candidates by the tree's distances and a cache hit's by that function.
+    if (d[um] != ppcr::detail::squared_distance(q.data(), cloud[idx[um]].data())) {
       why << "slot " << m << ": distance " << d[um] << " differs in its last bits from "
-          << "(y - q).squaredNorm()";
+          << "squared_distance(q, y)";
       return why.str();
     }
     if (d[um] > radius_sq * (1.0 + tol)) return why.str() + "outside the radius";

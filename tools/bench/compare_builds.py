@@ -25,9 +25,10 @@ def read_protocol(path):
     protocol = {}
     with open(path) as f:
         for line in f:
-            if line.strip() and not line.startswith('#'):
-                name, _, options = line.strip().partition(' ')
-                protocol[name] = options
+            line = line.strip()
+            if line and not line.startswith('#'):
+                name, _, options = line.partition(' ')
+                protocol.setdefault(name, options)  # the first line of a set, as grep -m1
     return protocol
 
 

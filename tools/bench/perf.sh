@@ -70,7 +70,8 @@ echo "== end-to-end: ppcr_bench, first $limit problems per set, 1 and 2 threads"
   echo "|---|---|---|---|---|---|---|---|---|"
 } >>"$md"
 for s in bunny lidar; do
-  proto=$(grep -m1 "^$s " "$root/tools/bench/protocol.txt")  # the benchmark protocol
+  proto=$(grep -m1 "^$s " "$root/tools/bench/protocol.txt") ||  # the benchmark protocol
+    { echo "perf.sh: no protocol for set '$s' in tools/bench/protocol.txt" >&2; exit 1; }
   proto=${proto#"$s" }
   for run in "defaults|1|" "defaults|2|" "--reassociate-motion 0.05|1|--reassociate-motion 0.05"; do
     IFS='|' read -r name t extra <<<"$run"
