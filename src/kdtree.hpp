@@ -17,9 +17,12 @@ namespace ppcr {
 namespace detail {
 
 /// |a - b|^2 as every neighbour search here computes it: the k-d tree's leaves and the neighbour
-/// cache's re-ranks (neighbour_cache.cpp) both call this one expression, so that a query's
-/// distances and a cached candidate's agree to the bit, also where the compiler fuses
-/// multiply-adds (tests/core/test_kdtree.cpp checks the tree's against it on every build).
+/// cache's re-ranks (neighbour_cache.cpp) call this one expression, so that a query's distances
+/// and a cached candidate's are computed alike. Where the compiler fuses multiply-adds it fuses
+/// this expression the same way at each call (GCC 12 -O3 -march=haswell: checked in the machine
+/// code); C++ does not guarantee that (not under -ffast-math, for one). Tests with == on the
+/// build at hand: tests/core/test_kdtree.cpp (the tree against this function) and
+/// tests/core/test_neighbour_cache.cpp (queried rows against re-ranked ones).
 inline double squared_distance(const double* a, const double* b) {
   const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
   return dx * dx + dy * dy + dz * dz;
@@ -40,7 +43,9 @@ class KdTree {
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq
   /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to
   /// its cell exceeds radius_sq: kdtree_nanoflann.hpp), sorted by increasing distance; writes
-  /// indices[0..n), dist_sq[0..n) and returns n. The same result as nanoflann's own search.
+  /// indices[0..n), dist_sq[0..n) and returns n. The same result as nanoflann's own search
+  /// (without FMA contraction: where the compiler fuses multiply-adds, nanoflann's distance and
+  /// ours can round apart, and a point at the radius be kept by one and not the other).
   /// Allocation-free. Thread-safe (const).
   int radius_knn(const Eigen::Vector3d& query, int k, double radius_sq, std::uint32_t* indices,
                  double* dist_sq) const;

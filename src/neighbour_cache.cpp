@@ -12,8 +12,8 @@ namespace detail {
 namespace {
 
 // Squared distances of targets idx[0..n) to p, by the k-d tree's own expression (kdtree.hpp):
-// a query's candidates come with the tree's distances, a cache hit's are computed here, and the
-// two agree to the bit, so the table's distances and tie order never depend on the path taken.
+// a query's candidates come with the tree's distances, a cache hit's are computed here, alike
+// (see squared_distance), so the table's distances and tie order do not depend on the path.
 void distances(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
                double* d) {
   for (int c = 0; c < n; ++c) d[c] = squared_distance(p.data(), target[idx[c]].data());
@@ -150,7 +150,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     }
     // Re-query: the K nearest within r_c around p (their distances go to a stack buffer), then
     // the same re-rank as a cache hit, so that the table's tie order never depends on which path
-    // a point took. The tree's distances are those distances() computes, to the bit: the same
+    // a point took. The tree's distances are computed as distances() computes them: the same
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
     double cand_d[NeighbourCache::kMaxCapacity];
     const int found = target_tree.radius_knn(p, capacity, candidate_radius_sq, cand, cand_d);

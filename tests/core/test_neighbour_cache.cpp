@@ -159,6 +159,38 @@ TEST_CASE("associate_cached queries only where the lists cannot prove the answer
   CHECK(cache.last_queries == source.size());
 }
 
+TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried rows, bit for bit",
+          "[association]") {
+  // A warm cache answers most rows from its lists (distances computed in neighbour_cache.cpp);
+  // a fresh cache queries every row (distances from the k-d tree, kdtree.cpp). Same indices,
+  // same order, same distances to the bit.
+  Rng rng(57);
+  const PointCloud target = core_test::uniform_cloud(rng, 5000, -1.0, 1.0);
+  const PointCloud source = core_test::uniform_cloud(rng, 3000, -1.1, 1.1);
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  NeighbourCache warm;
+  warm.resize(source.size(), 14);
+  AssociationTable t_warm, t_fresh;
+  t_warm.resize(source.size(), 10);
+  t_fresh.resize(source.size(), 10);
+  std::size_t answered_from_lists = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, 1, &warm, &t_warm);
+    NeighbourCache fresh;
+    fresh.resize(source.size(), 14);
+    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, 1, &fresh, &t_fresh);
+    REQUIRE(fresh.last_queries == source.size());
+    answered_from_lists += source.size() - warm.last_queries;
+    INFO("pose " << i);
+    CHECK(t_warm.count == t_fresh.count);
+    CHECK(t_warm.index == t_fresh.index);
+    CHECK(t_warm.dist_sq == t_fresh.dist_sq);  // exact: the two paths' distances agree
+  }
+  CHECK(answered_from_lists > 5 * source.size());  // the lists' paths were exercised
+}
+
 TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads", "[association]") {
   Rng rng(53);
   const PointCloud target = core_test::uniform_cloud(rng, 20000, -1.0, 1.0);
