@@ -3,6 +3,7 @@
 // radius-limited kNN of every transformed source point, it does not depend on the thread count,
 // and the k-d tree is queried only where the candidate lists cannot prove the answer.
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,16 +43,32 @@ std::vector<Eigen::Isometry3d> pose_sequence(Rng& rng) {
   return poses;
 }
 
+// A target uniform in [-1, 1]^3, a source uniform in [-w, w]^3, the target's tree and a
+// pose_sequence, all drawn from one seed.
+struct Scene {
+  Scene(std::uint32_t seed, std::size_t target_points, std::size_t source_points, double w)
+      : rng(seed),
+        target(core_test::uniform_cloud(rng, target_points, -1.0, 1.0)),
+        source(core_test::uniform_cloud(rng, source_points, -w, w)) {
+    built = tree.build(target).ok();
+    poses = pose_sequence(rng);
+  }
+  Rng rng;
+  PointCloud target, source;
+  KdTree tree;
+  bool built = false;
+  std::vector<Eigen::Isometry3d> poses;
+};
+
 }  // namespace
 
 TEST_CASE("associate_cached equals brute force along a sequence of poses", "[association]") {
-  Rng rng(51);
-  const PointCloud target = core_test::uniform_cloud(rng, 3000, -1.0, 1.0);
-  // Wider than the target: points near and beyond its edge have short or empty lists.
-  const PointCloud source = core_test::uniform_cloud(rng, 1200, -1.3, 1.3);
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
-  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  // The source wider than the target: points near and beyond its edge have short or empty lists.
+  const Scene scene(51, 3000, 1200, 1.3);
+  REQUIRE(scene.built);
+  const PointCloud &target = scene.target, &source = scene.source;
+  const KdTree& tree = scene.tree;
+  const std::vector<Eigen::Isometry3d>& poses = scene.poses;
   for (int k : {1, 6, 15}) {
     for (int extra : {1, 8}) {
       for (double radius : {0.08, 0.2}) {
@@ -164,12 +181,11 @@ TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried
   // A warm cache answers most rows from its lists (distances computed in neighbour_cache.cpp);
   // a fresh cache queries every row (distances from the k-d tree, kdtree.cpp). Same indices,
   // same order, same distances to the bit.
-  Rng rng(57);
-  const PointCloud target = core_test::uniform_cloud(rng, 5000, -1.0, 1.0);
-  const PointCloud source = core_test::uniform_cloud(rng, 3000, -1.1, 1.1);
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
-  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  const Scene scene(57, 5000, 3000, 1.1);
+  REQUIRE(scene.built);
+  const PointCloud &target = scene.target, &source = scene.source;
+  const KdTree& tree = scene.tree;
+  const std::vector<Eigen::Isometry3d>& poses = scene.poses;
   NeighbourCache warm;
   warm.resize(source.size(), 14);
   AssociationTable t_warm, t_fresh;
@@ -192,12 +208,11 @@ TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried
 }
 
 TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads", "[association]") {
-  Rng rng(53);
-  const PointCloud target = core_test::uniform_cloud(rng, 20000, -1.0, 1.0);
-  const PointCloud source = core_test::uniform_cloud(rng, 15000, -1.1, 1.1);
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
-  const std::vector<Eigen::Isometry3d> poses = pose_sequence(rng);
+  const Scene scene(53, 20000, 15000, 1.1);
+  REQUIRE(scene.built);
+  const PointCloud &target = scene.target, &source = scene.source;
+  const KdTree& tree = scene.tree;
+  const std::vector<Eigen::Isometry3d>& poses = scene.poses;
   NeighbourCache c1, c2;
   c1.resize(source.size(), 18);
   c2.resize(source.size(), 18);

@@ -165,6 +165,20 @@ std::vector<Eigen::Vector3d> random_normals(std::size_t n, std::uint64_t seed) {
   return normals;
 }
 
+// The plane model over pb's target with the given normals. Not copyable: the model points at
+// the packed points.
+struct PackedPlane {
+  PackedPlane(const Problem& pb, const std::vector<Eigen::Vector3d>& normals, double epsilon) {
+    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points);
+    model.points = &points;
+    model.epsilon = epsilon;
+  }
+  PackedPlane(const PackedPlane&) = delete;
+  PackedPlane& operator=(const PackedPlane&) = delete;
+  std::vector<ppcr::detail::PlanePoint> points;
+  ppcr::detail::PlaneModel model;
+};
+
 struct Output {
   Evaluation eval;
   std::vector<double> w, r_sq;
@@ -394,11 +408,8 @@ TEST_CASE("evaluate without the r_sq array gives the same weights and sums, both
           "[normal_equations]") {
   const Problem pb = make_problem(67, 3000, 10, 0.08);
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 68);
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
-  ppcr::detail::PlaneModel plane;
-  plane.points = &points;
-  plane.epsilon = 0.05;
+  PackedPlane packed(pb, normals, 0.05);
+  ppcr::detail::PlaneModel& plane = packed.model;
   Rng rng(69);
   std::vector<double> w_prev(pb.source.size() * 10);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
@@ -430,11 +441,8 @@ TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[n
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
   for (double epsilon : {0.05, 0.3, 1.0}) {
-    std::vector<ppcr::detail::PlanePoint> points;
-    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points);
-    ppcr::detail::PlaneModel plane;
-    plane.points = &points;
-    plane.epsilon = epsilon;
+    PackedPlane packed(pb, normals, epsilon);
+    ppcr::detail::PlaneModel& plane = packed.model;
     for (const WeightParams& wp : weight_params()) {
       const Eigen::Isometry3d T =
           core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
@@ -466,11 +474,8 @@ TEST_CASE("plane model: g is the central-difference gradient of the fixed-weight
           "[normal_equations]") {
   const Problem pb = make_problem(64, 500, 6, 0.15);
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 65);
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
-  ppcr::detail::PlaneModel plane;
-  plane.points = &points;
-  plane.epsilon = 0.05;
+  PackedPlane packed(pb, normals, 0.05);
+  ppcr::detail::PlaneModel& plane = packed.model;
   for (const WeightParams& wp : weight_params()) {
     const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
     auto cost = [&](const Vector6d& d) {
@@ -497,11 +502,8 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
   }
   pb.assoc.pairs = pb.assoc.matched = pb.source.size();
   const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 67);
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
-  ppcr::detail::PlaneModel plane;
-  plane.points = &points;
-  plane.epsilon = 0.05;
+  PackedPlane packed(pb, normals, 0.05);
+  ppcr::detail::PlaneModel& plane = packed.model;
   const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0};
   const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
   auto cost = [&](const Vector6d& d) {
@@ -532,11 +534,8 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
   Rng rng(74);
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
-  ppcr::detail::PlaneModel plane;
-  plane.points = &points;
-  plane.epsilon = 0.05;
+  PackedPlane packed(pb, normals, 0.05);
+  ppcr::detail::PlaneModel& plane = packed.model;
   plane.pair_normals = &pair;
   for (const WeightParams& wp : weight_params()) {
     const Eigen::Isometry3d T =
@@ -566,11 +565,8 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
 TEST_CASE("plane model without normals is the point model", "[normal_equations]") {
   const Problem pb = make_problem(68, 500, 6, 0.15);
   const std::vector<Eigen::Vector3d> none(pb.target.size(), Eigen::Vector3d::Zero());
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, none, 0.05, &points);
-  ppcr::detail::PlaneModel plane;
-  plane.points = &points;
-  plane.epsilon = 0.05;  // unused without normals: Omega = I
+  PackedPlane packed(pb, none, 0.05);  // unused without normals: Omega = I
+  ppcr::detail::PlaneModel& plane = packed.model;
   for (const WeightParams& wp : weight_params()) {
     const Output a = run(pb, wp, pb.T, nullptr, 1, &plane);
     const Output b = run(pb, wp, pb.T, nullptr, 1);
