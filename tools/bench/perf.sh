@@ -12,6 +12,8 @@
 #   PERF_SIZES="16:1024 64:2048 128:8192"   synthetic street scans, beams:steps
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
+# shellcheck source=protocol.sh
+source "$root/tools/bench/protocol.sh"
 cd "$root"
 build=${1:-build/test-release}
 out=${2:-build/perf}
@@ -70,9 +72,7 @@ echo "== end-to-end: ppcr_bench, first $limit problems per set, 1 and 2 threads"
   echo "|---|---|---|---|---|---|---|---|---|"
 } >>"$md"
 for s in bunny lidar; do
-  proto=$(grep -m1 "^$s " "$root/tools/bench/protocol.txt") ||  # the benchmark protocol
-    { echo "perf.sh: no protocol for set '$s' in tools/bench/protocol.txt" >&2; exit 1; }
-  proto=${proto#"$s" }
+  proto=$(bench_protocol "$s")  # tools/bench/protocol.txt
   for run in "defaults|1|" "defaults|2|" "--reassociate-motion 0.05|1|--reassociate-motion 0.05"; do
     IFS='|' read -r name t extra <<<"$run"
     tag="bench_${s}_t${t}_${extra//[^0-9a-z]/}"

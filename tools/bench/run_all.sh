@@ -45,12 +45,9 @@ methods=$("$bench" --help | tr '\n' ' ' | sed -n 's/.*registration method:\([^(]
 [[ -n $methods ]] || { echo "run_all.sh: cannot read the method list from --help" >&2; exit 1; }
 
 # The protocol of the reference figures, per set (tools/bench/protocol.txt).
-protocol() {
-  local line
-  line=$(grep -m1 "^$1 " "$root/tools/bench/protocol.txt") ||
-    { echo "run_all.sh: no protocol for set '$1' in tools/bench/protocol.txt" >&2; exit 1; }
-  echo "${line#"$1" }"
-}
+# shellcheck source=protocol.sh
+source "$root/tools/bench/protocol.sh"
+protocol() { bench_protocol "$1" || exit 1; }
 
 # Runs: label|ppcr_bench arguments. ppcr in nine variants, then every peer.
 # ppcr: the defaults (plane model); sn = with source normals (issue #8); sn-mse = source normals
