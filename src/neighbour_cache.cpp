@@ -128,6 +128,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
       cache->set_radius[j] = set_radius(n, k, m, radius, outside_min, p);
     };
     double left_out_sq = 0.0;
+    double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
     if (cache->bound[j] >= 0.0) {
       if ((p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
         resort(target, p, table->count[j], out_idx, out_d);  // the set certificate
@@ -135,24 +136,26 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         return;
       }
       const double delta = (p - cache->query[j]).norm();
-      // Distances first (independent gathers the CPU overlaps), then the branchy selection.
-      double cand_d[NeighbourCache::kMaxCapacity];
-      distances(target, p, cand, cache->count[j], cand_d);
-      const int n =
-          rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
-      const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
-      const double kth = n == k ? m : radius;
-      if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
-        ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
-        cache->path[j] = NeighbourCache::kReranked;
-        return;
+      // The certificate below needs kth + delta < B_j, kth >= 0: a point that moved B_j or more
+      // since its query cannot pass it and goes straight to the query (the same table).
+      if (delta < cache->bound[j]) {
+        // Distances first (independent gathers the CPU overlaps), then the branchy selection.
+        distances(target, p, cand, cache->count[j], cand_d);
+        const int n =
+            rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
+        const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
+        const double kth = n == k ? m : radius;
+        if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
+          ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
+          cache->path[j] = NeighbourCache::kReranked;
+          return;
+        }
       }
     }
-    // Re-query: the K nearest within r_c around p (their distances go to a stack buffer), then
+    // Re-query: the K nearest within r_c around p (their distances go to cand_d), then
     // the same re-rank as a cache hit, so that the table's tie order never depends on which path
     // a point took. The tree's distances are computed as distances() computes them: the same
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
-    double cand_d[NeighbourCache::kMaxCapacity];
     const int found = target_tree.radius_knn(p, capacity, candidate_radius_sq, cand, cand_d);
     cache->count[j] = static_cast<std::uint16_t>(found);
     cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;

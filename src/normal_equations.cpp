@@ -181,11 +181,11 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
                                double* r_sq, int num_threads, Evaluation* out,
                                const PlaneModel* plane) {
+  // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
+  assert(assoc.k <= AssociationTable::kMaxNeighbours);
   // The pass needs c and u only: no log-sum-exp (two logarithms per point). The error model
   // and the pair normals are template parameters of the pass (tags here), so that its per-pair
   // loops carry no model branches.
-  // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
-  assert(assoc.k <= AssociationTable::kMaxNeighbours);
   const bool use_plane = plane != nullptr && plane->points != nullptr;
   const bool use_pair_normals = use_plane && plane->pair_normals != nullptr;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {

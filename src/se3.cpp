@@ -67,12 +67,6 @@ double v_inverse_coefficient(double a) {
 
 }  // namespace
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
-  Eigen::Matrix3d S;
-  S << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-  return S;
-}
-
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
   // Rodrigues: R = I + A [w]_x + B [w]_x^2.
   const ExpCoefficients c = exp_coefficients(w.norm());

@@ -16,8 +16,13 @@ namespace se3 {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-/// [w]_x : the 3x3 skew-symmetric matrix with [w]_x p = w x p.
-Eigen::Matrix3d skew(const Eigen::Vector3d& w);
+/// [w]_x : the 3x3 skew-symmetric matrix with [w]_x p = w x p. Inline: the plane model's
+/// normal-equation pass builds one per source point and pass.
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d S;
+  S << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+  return S;
+}
 
 /// Rodrigues: rotation by angle |w| about w / |w|.
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w);
