@@ -3,6 +3,7 @@
 // differences of the error through ppcr::se3::exp (so the analytic form is not trusted), and for
 // independence of the thread count.
 #include <catch2/catch.hpp>
+#include <utility>
 #include <vector>
 
 #include "association.hpp"
@@ -165,16 +166,20 @@ std::vector<Eigen::Vector3d> random_normals(std::size_t n, std::uint64_t seed) {
   return normals;
 }
 
-// The plane model over pb's target with the given normals. Not copyable: the model points at
-// the packed points.
+// The plane model over pb's target with the given normals (kept: the references read them), or
+// with random_normals(seed). Not copyable: the model points at the packed points.
 struct PackedPlane {
-  PackedPlane(const Problem& pb, const std::vector<Eigen::Vector3d>& normals, double epsilon) {
+  PackedPlane(const Problem& pb, std::vector<Eigen::Vector3d> target_normals, double epsilon)
+      : normals(std::move(target_normals)) {
     ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points);
     model.points = &points;
     model.epsilon = epsilon;
   }
+  PackedPlane(const Problem& pb, std::uint64_t normals_seed, double epsilon)
+      : PackedPlane(pb, random_normals(pb.target.size(), normals_seed), epsilon) {}
   PackedPlane(const PackedPlane&) = delete;
   PackedPlane& operator=(const PackedPlane&) = delete;
+  std::vector<Eigen::Vector3d> normals;
   std::vector<ppcr::detail::PlanePoint> points;
   ppcr::detail::PlaneModel model;
 };
@@ -407,8 +412,7 @@ TEST_CASE("evaluate is bit-identical with 1 and 2 threads (~10k points, blocks o
 TEST_CASE("evaluate without the r_sq array gives the same weights and sums, both models",
           "[normal_equations]") {
   const Problem pb = make_problem(67, 3000, 10, 0.08);
-  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 68);
-  PackedPlane packed(pb, normals, 0.05);
+  PackedPlane packed(pb, 68, 0.05);
   ppcr::detail::PlaneModel& plane = packed.model;
   Rng rng(69);
   std::vector<double> w_prev(pb.source.size() * 10);
@@ -436,17 +440,16 @@ TEST_CASE("evaluate without the r_sq array gives the same weights and sums, both
 
 TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[normal_equations]") {
   const Problem pb = make_problem(61, 600, 6, 0.15);
-  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 62);
   Rng rng(63);
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
   for (double epsilon : {0.05, 0.3, 1.0}) {
-    PackedPlane packed(pb, normals, epsilon);
+    PackedPlane packed(pb, 62, epsilon);
     ppcr::detail::PlaneModel& plane = packed.model;
     for (const WeightParams& wp : weight_params()) {
       const Eigen::Isometry3d T =
           core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
-      const Reference ref = naive_plane(pb, wp, T, w_prev.data(), normals, epsilon);
+      const Reference ref = naive_plane(pb, wp, T, w_prev.data(), packed.normals, epsilon);
       const Output out = run(pb, wp, T, w_prev.data(), 1, &plane);
       INFO("epsilon " << epsilon << " model " << static_cast<int>(wp.model) << " inv_s2 "
                       << wp.inv_scale_sq);
@@ -473,8 +476,7 @@ TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[n
 TEST_CASE("plane model: g is the central-difference gradient of the fixed-weight cost",
           "[normal_equations]") {
   const Problem pb = make_problem(64, 500, 6, 0.15);
-  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 65);
-  PackedPlane packed(pb, normals, 0.05);
+  PackedPlane packed(pb, 65, 0.05);
   ppcr::detail::PlaneModel& plane = packed.model;
   for (const WeightParams& wp : weight_params()) {
     const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
@@ -501,8 +503,7 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
     pb.assoc.count[j] = 1;
   }
   pb.assoc.pairs = pb.assoc.matched = pb.source.size();
-  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 67);
-  PackedPlane packed(pb, normals, 0.05);
+  PackedPlane packed(pb, 67, 0.05);
   ppcr::detail::PlaneModel& plane = packed.model;
   const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0};
   const Output at = run(pb, wp, pb.T, nullptr, 1, &plane);
@@ -527,21 +528,20 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
 TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-difference gradient",
           "[normal_equations]") {
   const Problem pb = make_problem(71, 600, 6, 0.15);
-  const std::vector<Eigen::Vector3d> normals = random_normals(pb.target.size(), 72);
   // A different normal for every slot (every fifth zero): the pair normals must replace the
   // target points' normals everywhere.
   const std::vector<Eigen::Vector3d> pair = random_normals(pb.source.size() * 6, 73);
   Rng rng(74);
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
-  PackedPlane packed(pb, normals, 0.05);
+  PackedPlane packed(pb, 72, 0.05);
   ppcr::detail::PlaneModel& plane = packed.model;
   plane.pair_normals = &pair;
   for (const WeightParams& wp : weight_params()) {
     const Eigen::Isometry3d T =
         core_test::make_pose(Eigen::Vector3d(0, 1, 1), 0.03, Eigen::Vector3d(0.01, 0, 0)) * pb.T;
-    const Reference ref = naive_plane(pb, wp, T, w_prev.data(), normals, 0.05, &pair);
-    const Reference target_only = naive_plane(pb, wp, T, w_prev.data(), normals, 0.05);
+    const Reference ref = naive_plane(pb, wp, T, w_prev.data(), packed.normals, 0.05, &pair);
+    const Reference target_only = naive_plane(pb, wp, T, w_prev.data(), packed.normals, 0.05);
     const Output out = run(pb, wp, T, w_prev.data(), 1, &plane);
     CHECK(rel_diff(out.eval.H, ref.H) < 1e-12);
     CHECK(rel_diff(out.eval.g, ref.g) < 1e-11);
@@ -564,8 +564,8 @@ TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-diff
 
 TEST_CASE("plane model without normals is the point model", "[normal_equations]") {
   const Problem pb = make_problem(68, 500, 6, 0.15);
-  const std::vector<Eigen::Vector3d> none(pb.target.size(), Eigen::Vector3d::Zero());
-  PackedPlane packed(pb, none, 0.05);  // unused without normals: Omega = I
+  PackedPlane packed(pb, std::vector<Eigen::Vector3d>(pb.target.size(), Eigen::Vector3d::Zero()),
+                     0.05);  // unused without normals: Omega = I
   ppcr::detail::PlaneModel& plane = packed.model;
   for (const WeightParams& wp : weight_params()) {
     const Output a = run(pb, wp, pb.T, nullptr, 1, &plane);
