@@ -111,17 +111,19 @@ Status KdTree::build(const PointCloud& points) {
     // the flat layout and its own structure is freed.
     const CloudAdaptor adaptor{&points};
     const Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const auto& box = tree_bounding_box(tree);
     for (int a = 0; a < 3; ++a) {
-      m.box_low[a] = tree.root_bbox[static_cast<std::size_t>(a)].low;
-      m.box_high[a] = tree.root_bbox[static_cast<std::size_t>(a)].high;
+      m.box_low[a] = box[static_cast<std::size_t>(a)].low;
+      m.box_high[a] = box[static_cast<std::size_t>(a)].high;
     }
-    m.index.assign(tree.vAcc.begin(), tree.vAcc.end());
+    const std::vector<std::uint32_t>& leaf_order = tree_leaf_order(tree);
+    m.index.assign(leaf_order.begin(), leaf_order.end());
     m.xyz.resize(3 * m.index.size());
     for (std::size_t i = 0; i < m.index.size(); ++i) {
       for (int a = 0; a < 3; ++a)
         m.xyz[3 * i + static_cast<std::size_t>(a)] = points[m.index[i]][a];
     }
-    m.flatten(tree.root_node);
+    m.flatten(tree_root(tree));
     m.nodes.shrink_to_fit();
   } catch (const std::bad_alloc&) {
     m = Impl();

@@ -1,7 +1,7 @@
 // kdtree.hpp - a k-d tree over the target and the radius-limited k-nearest-neighbour query.
 //
-// nanoflann (1.4.x) stays behind a pimpl (only kdtree.cpp and kdtree_nanoflann.hpp include it):
-// nanoflann builds the tree, and the search runs nanoflann's algorithm on a flat copy of it
+// nanoflann (1.4 to 1.7) stays behind a pimpl (only kdtree.cpp and kdtree_nanoflann.hpp include
+// it): nanoflann builds the tree, and the search runs nanoflann's algorithm on a flat copy of it
 // (kdtree.cpp), with the same result. Distances are SQUARED, as nanoflann's L2 metric: every
 // distance here is squared and says so.
 #pragma once

@@ -1,15 +1,19 @@
 // kdtree_nanoflann.hpp - nanoflann's side of the k-d tree (private): the dataset adaptor, the
-// radius-bounded kNN result set (nanoflann 1.4 has none) and the tree type. kdtree.cpp builds
-// with it; tests/core/test_kdtree.cpp runs nanoflann's own search with it, the reference the flat
-// search must equal.
+// radius-bounded kNN result set (nanoflann 1.4 has none), the tree type and the few tree members
+// kdtree.cpp reads, under the names of the nanoflann at hand. kdtree.cpp builds with it;
+// tests/core/test_kdtree.cpp runs nanoflann's own search with it, the reference the flat search
+// must equal. Built and tested with nanoflann 1.4.3 (Debian 12) and 1.7.1 (Debian 13).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <nanoflann.hpp>
+#include <vector>
 
 #include "ppcr/types.hpp"
+
+static_assert(NANOFLANN_VERSION >= 0x140, "ppcr needs nanoflann 1.4 or newer (NANOFLANN_VERSION)");
 
 namespace ppcr {
 namespace detail {
@@ -53,6 +57,9 @@ class RadiusKnnResultSet {
     return true;
   }
 
+  // nanoflann >= 1.6 sorts a result set after a search asked to sort: this one is kept sorted.
+  void sort() {}
+
   // addPoint for a caller that has checked dist_sq < worstDist() (the flat search's leaf loop).
   void insert(double dist_sq, IndexType index) {
     int i = (count_ < capacity_) ? count_ : capacity_ - 1;
@@ -78,6 +85,27 @@ class RadiusKnnResultSet {
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<
     nanoflann::L2_Simple_Adaptor<double, CloudAdaptor, double, std::uint32_t>, CloudAdaptor, 3,
     std::uint32_t>;
+
+// nanoflann 1.5 renamed the tree's members (root_node, vAcc, root_bbox gained a trailing
+// underscore) and SearchParams (now SearchParameters, without the ignored `checks`): so read in
+// 1.5.1's and 1.7.1's headers, against 1.4.3's.
+#if NANOFLANN_VERSION >= 0x150
+inline const auto* tree_root(const Tree& tree) { return tree.root_node_; }
+inline const std::vector<std::uint32_t>& tree_leaf_order(const Tree& tree) { return tree.vAcc_; }
+inline const auto& tree_bounding_box(const Tree& tree) { return tree.root_bbox_; }
+/// An exact search (eps 0) whose result is sorted by distance.
+inline nanoflann::SearchParameters exact_sorted_search() {
+  return nanoflann::SearchParameters(0.0f, true);
+}
+#else
+inline const auto* tree_root(const Tree& tree) { return tree.root_node; }
+inline const std::vector<std::uint32_t>& tree_leaf_order(const Tree& tree) { return tree.vAcc; }
+inline const auto& tree_bounding_box(const Tree& tree) { return tree.root_bbox; }
+/// An exact search (eps 0) whose result is sorted by distance.
+inline nanoflann::SearchParams exact_sorted_search() {
+  return nanoflann::SearchParams(0, 0.0f, true);
+}
+#endif
 
 }  // namespace detail
 }  // namespace ppcr

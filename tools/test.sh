@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian 12 machine: installs what is missing, configures,
 # builds and runs every test. `.ci/run` calls exactly this.
-#   tools/test.sh            all stages
+#   tools/test.sh            the default stages: release, sanitize, fuzz
 #   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz)
+#   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
+#                                                      nanoflann (downloads it; not a default)
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -38,8 +40,33 @@ for stage in $stages; do
         exit 1
       fi
       ;;
+    nanoflann-next)
+      # Not in the default stages (it downloads): the release build against Debian 13's
+      # nanoflann (1.7.1 when written), unpacked under build/, instead of the system's 1.4.3.
+      echo "== nanoflann-next: build and run all tests against Debian 13's nanoflann"
+      "$root/tools/install_deps.sh" curl
+      config=$("$root/tools/fetch_nanoflann_debian13.sh" "$root/build/nanoflann-debian13")
+      header="$root/build/nanoflann-debian13/root/usr/include/nanoflann.hpp"
+      version=$(sed -n 's/^#define NANOFLANN_VERSION 0x\([0-9a-fA-F]*\).*/\1/p' "$header")
+      if [[ -z $version ]] || ((16#$version < 16#150)); then
+        echo "test.sh: $header is nanoflann 0x$version, not 1.5 or newer" >&2
+        exit 1
+      fi
+      # Makefiles: their per-object dependency files tell which nanoflann.hpp was compiled in.
+      cmake -S . -B build/test-nanoflann-next -G "Unix Makefiles" -DCMAKE_BUILD_TYPE=Release \
+        -DPPCR_BUILD_TESTS=ON -DPPCR_BUILD_TOOLS=ON -Dnanoflann_DIR="$config"
+      cmake --build build/test-nanoflann-next -j "$jobs"
+      ctest --test-dir build/test-nanoflann-next --output-on-failure -j "$jobs"
+      # After ctest, which also builds the consumer projects (tests/consumer).
+      if ! grep -qF "$header" build/test-nanoflann-next/CMakeFiles/ppcr.dir/src/kdtree.cpp.o.d ||
+         grep -rlE --include='*.d' '(^|[[:space:]])/usr/include/nanoflann\.hpp' \
+           build/test-nanoflann-next >&2; then
+        echo "test.sh: not every nanoflann user was compiled against $header (files above)" >&2
+        exit 1
+      fi
+      ;;
     *)
-      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz)" >&2
+      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz, nanoflann-next)" >&2
       exit 2
       ;;
   esac

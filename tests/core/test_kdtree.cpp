@@ -295,7 +295,7 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
       std::vector<double> got_d(static_cast<std::size_t>(k)), ref_d(static_cast<std::size_t>(k));
       const int got = tree.radius_knn(q, k, radius_sq, got_index.data(), got_d.data());
       ppcr::detail::RadiusKnnResultSet result(k, radius_sq, ref_index.data(), ref_d.data());
-      reference.findNeighbors(result, q.data(), nanoflann::SearchParams(0, 0.0f, true));
+      reference.findNeighbors(result, q.data(), ppcr::detail::exact_sorted_search());
       const int expected = result.size();
       ++queries;
       for (int m = 0; m < expected; ++m)
