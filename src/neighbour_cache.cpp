@@ -2,6 +2,7 @@
 #include "neighbour_cache.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -101,6 +102,8 @@ void NeighbourCache::invalidate() {
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
                       const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
                       NeighbourCache* cache, AssociationTable* table) {
+  // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
+  assert(radius > 0.0);
   const int k = table->k;
   const int capacity = cache->capacity;
   const double radius_sq = radius * radius;

@@ -76,8 +76,8 @@ struct NeighbourCache {
 /// As associate() (association.hpp), with the cache: same table, fewer k-d tree queries. The
 /// cache must be sized for source.size() points with capacity >= table->k, and be invalidated
 /// when the tree, the target or the source changes (a new table, k or radius invalidates it
-/// itself). Allocation-free. The result does
-/// not depend on the thread count.
+/// itself). radius > 0 (asserted). Allocation-free. The result does not depend on the thread
+/// count.
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
                       const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
                       NeighbourCache* cache, AssociationTable* table);
