@@ -7,8 +7,12 @@
 #
 # The package is pinned: version and SHA-256 below are those trixie's Packages index
 # (dists/trixie/main/binary-all/Packages.xz) listed on 2026-11-25, and the download must match
-# the SHA-256. A pool file does not change; when trixie moves on and this one leaves the pool,
-# the download fails: update the pin from that index.
+# the SHA-256. That index could not be authenticated when the pin was taken: the mirror served a
+# correctly signed InRelease whose SHA-256 for Packages.xz did not match the Packages.xz it served
+# (another snapshot), so the pin rests on that one fetch; re-check it against a consistent mirror
+# (InRelease via gpgv and the Debian archive keyring, then the index) when updating it. A pool
+# file does not change; when trixie moves on and this one leaves the pool, the download fails:
+# update the pin then.
 set -euo pipefail
 dir=${1:?usage: tools/fetch_nanoflann_debian13.sh DIR}
 mirror=${PPCR_DEBIAN_MIRROR:-https://deb.debian.org/debian}
@@ -23,7 +27,7 @@ fail() {
   exit 1
 }
 
-curl -fsS -m 300 -o "$dir/libnanoflann-dev.deb" "$url" || fail "cannot download $url"
+curl -fsSL -m 300 -o "$dir/libnanoflann-dev.deb" "$url" || fail "cannot download $url"
 echo "$sha256  $dir/libnanoflann-dev.deb" | sha256sum -c --quiet - >&2 ||
   fail "$url does not match the pinned SHA-256 $sha256"
 echo "fetch_nanoflann_debian13: libnanoflann-dev $version, SHA-256 checked" >&2

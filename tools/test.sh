@@ -44,16 +44,18 @@ for stage in $stages; do
       # Not in the default stages (it downloads): the release build against Debian 13's
       # nanoflann (1.7.1 when written), unpacked under build/, instead of the system's 1.4.3.
       echo "== nanoflann-next: build and run all tests against Debian 13's nanoflann"
-      "$root/tools/install_deps.sh" curl
+      "$root/tools/install_deps.sh" curl ca-certificates
       config=$("$root/tools/fetch_nanoflann_debian13.sh" "$root/build/nanoflann-debian13")
       header="$root/build/nanoflann-debian13/root/usr/include/nanoflann.hpp"
-      version=$(sed -n 's/^#define NANOFLANN_VERSION 0x\([0-9a-fA-F]*\).*/\1/p' "$header")
+      version=$(sed -n '/^#define NANOFLANN_VERSION 0x/{s/.*0x\([0-9a-fA-F]*\).*/\1/p;q}' "$header")
       if [[ -z $version ]] || ((16#$version < 16#150)); then
         echo "test.sh: $header is nanoflann 0x$version, not 1.5 or newer" >&2
         exit 1
       fi
-      # Makefiles: their per-object dependency files tell which nanoflann.hpp was compiled in.
-      cmake -S . -B build/test-nanoflann-next -G "Unix Makefiles" -DCMAKE_BUILD_TYPE=Release \
+      # Makefiles, here and in the consumer projects ctest builds: their per-object dependency
+      # files tell which nanoflann.hpp was compiled in.
+      export CMAKE_GENERATOR="Unix Makefiles"
+      cmake -S . -B build/test-nanoflann-next -DCMAKE_BUILD_TYPE=Release \
         -DPPCR_BUILD_TESTS=ON -DPPCR_BUILD_TOOLS=ON -Dnanoflann_DIR="$config"
       cmake --build build/test-nanoflann-next -j "$jobs"
       ctest --test-dir build/test-nanoflann-next --output-on-failure -j "$jobs"
