@@ -132,28 +132,30 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     };
     double left_out_sq = 0.0;
     double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
+    // The list certificate of neighbour_cache.hpp: true when the re-ranked candidates are the
+    // row. It needs kth + delta < B_j with kth >= 0, so a point that moved B_j or more since its
+    // query cannot pass it and goes straight to the query (the same table).
+    auto certified_rerank = [&]() {
+      const double delta = (p - cache->query[j]).norm();
+      if (!(delta < cache->bound[j])) return false;
+      // Distances first (independent gathers the CPU overlaps), then the branchy selection.
+      distances(target, p, cand, cache->count[j], cand_d);
+      const int n =
+          rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
+      const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
+      const double kth = n == k ? m : radius;
+      if (!(kth + delta < cache->bound[j])) return false;
+      ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
+      cache->path[j] = NeighbourCache::kReranked;
+      return true;
+    };
     if (cache->bound[j] >= 0.0) {
       if ((p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
         resort(target, p, table->count[j], out_idx, out_d);  // the set certificate
         cache->path[j] = NeighbourCache::kResorted;
         return;
       }
-      const double delta = (p - cache->query[j]).norm();
-      // The certificate below needs kth + delta < B_j, kth >= 0: a point that moved B_j or more
-      // since its query cannot pass it and goes straight to the query (the same table).
-      if (delta < cache->bound[j]) {
-        // Distances first (independent gathers the CPU overlaps), then the branchy selection.
-        distances(target, p, cand, cache->count[j], cand_d);
-        const int n =
-            rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
-        const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
-        const double kth = n == k ? m : radius;
-        if (kth + delta < cache->bound[j]) {  // the certificate of neighbour_cache.hpp
-          ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
-          cache->path[j] = NeighbourCache::kReranked;
-          return;
-        }
-      }
+      if (certified_rerank()) return;
     }
     // Re-query: the K nearest within r_c around p (their distances go to cand_d), then
     // the same re-rank as a cache hit, so that the table's tie order never depends on which path

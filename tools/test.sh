@@ -13,22 +13,27 @@ cd "$root"
 jobs=${PPCR_JOBS:-2}
 stages=${PPCR_TEST_STAGES:-release sanitize fuzz}
 
+# build_and_test DIR BUILD_TYPE [cmake arguments...]: configures the tests and tools in DIR,
+# builds them and runs every test.
+build_and_test() {
+  local dir=$1 build_type=$2
+  shift 2
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$build_type" -DPPCR_BUILD_TESTS=ON \
+    -DPPCR_BUILD_TOOLS=ON "$@"
+  cmake --build "$dir" -j "$jobs"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+}
+
 for stage in $stages; do
   case $stage in
     release)
       echo "== release: build and run all tests"
-      cmake -S . -B build/test-release -DCMAKE_BUILD_TYPE=Release -DPPCR_BUILD_TESTS=ON \
-        -DPPCR_BUILD_TOOLS=ON -DPPCR_BUILD_BENCHMARKS=ON
-      cmake --build build/test-release -j "$jobs"
-      ctest --test-dir build/test-release --output-on-failure -j "$jobs"
+      build_and_test build/test-release Release -DPPCR_BUILD_BENCHMARKS=ON
       ;;
     sanitize)
       echo "== sanitize: all tests under AddressSanitizer + UndefinedBehaviorSanitizer"
-      cmake -S . -B build/test-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPPCR_SANITIZE=ON \
-        -DPPCR_BUILD_TESTS=ON -DPPCR_BUILD_TOOLS=ON
-      cmake --build build/test-asan -j "$jobs"
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-        ctest --test-dir build/test-asan --output-on-failure -j "$jobs"
+        build_and_test build/test-asan RelWithDebInfo -DPPCR_SANITIZE=ON
       ;;
     fuzz)
       echo "== fuzz: bounded libFuzzer runs (clang, ASan + UBSan), ${PPCR_FUZZ_SECONDS:-60} s per target"
@@ -55,10 +60,7 @@ for stage in $stages; do
       # Makefiles, here and in the consumer projects ctest builds: their per-object dependency
       # files tell which nanoflann.hpp was compiled in.
       export CMAKE_GENERATOR="Unix Makefiles"
-      cmake -S . -B build/test-nanoflann-next -DCMAKE_BUILD_TYPE=Release \
-        -DPPCR_BUILD_TESTS=ON -DPPCR_BUILD_TOOLS=ON -Dnanoflann_DIR="$config"
-      cmake --build build/test-nanoflann-next -j "$jobs"
-      ctest --test-dir build/test-nanoflann-next --output-on-failure -j "$jobs"
+      build_and_test build/test-nanoflann-next Release -Dnanoflann_DIR="$config"
       # After ctest, which also builds the consumer projects (tests/consumer).
       if ! grep -qF "$header" build/test-nanoflann-next/CMakeFiles/ppcr.dir/src/kdtree.cpp.o.d ||
          grep -rlE --include='*.d' '(^|[[:space:]])/usr/include/nanoflann\.hpp' \
