@@ -138,6 +138,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     auto certified_rerank = [&]() {
       const double delta = (p - cache->query[j]).norm();
       if (!(delta < cache->bound[j])) return false;
+      // Nor can a list of exactly k with B_j <= r (a fast mover's, below): the candidate at B_j
+      // from q_j is at least B_j - delta from p, so kth >= B_j - delta whether all k are within
+      // r (kth = their largest distance) or not (kth = r >= B_j).
+      if (cache->count[j] == k && cache->bound[j] <= radius) return false;
       // Distances first (independent gathers the CPU overlaps), then the branchy selection.
       distances(target, p, cand, cache->count[j], cand_d);
       const int n =
@@ -161,9 +165,15 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // the same re-rank as a cache hit, so that the table's tie order never depends on which path
     // a point took. The tree's distances are computed as distances() computes them: the same
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
-    const int found = target_tree.radius_knn(p, capacity, candidate_radius_sq, cand, cand_d);
+    // A point that moved more than kFastMove x B_j since its last query is likely to move past
+    // a new list's margin too: it is queried for its k nearest only (a cheaper query; the list
+    // usually proves nothing, and the point is queried again next time). neighbour_cache.hpp.
+    const bool fast = cache->bound[j] >= 0.0 &&
+                      (p - cache->query[j]).norm() > NeighbourCache::kFastMove * cache->bound[j];
+    const int want = fast ? k : capacity;
+    const int found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
     cache->count[j] = static_cast<std::uint16_t>(found);
-    cache->bound[j] = found == capacity ? std::sqrt(cand_d[capacity - 1]) : candidate_radius;
+    cache->bound[j] = found == want ? std::sqrt(cand_d[want - 1]) : candidate_radius;
     cache->query[j] = p;
     cache->path[j] = NeighbourCache::kQueried;
     const int n = rerank(cand, cand_d, found, k, radius_sq, out_idx, out_d, &left_out_sq);

@@ -26,6 +26,17 @@
 // cache's last call wrote: a call with another table, k or radius invalidates the cache first;
 // no other code may write the table between two calls.
 //
+// Fast movers. A list holds while its point moves less than about B_j - D_j, a small part of B_j
+// (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
+// outer iterations move the points by more than that (the benchmark sets: every point re-queried
+// in iterations 2-4). Such a list costs a query of K and buys nothing. So a point re-queried after
+// moving more than kFastMove x B_j since its last query is queried for its k nearest only (B_j is
+// then its k-th distance). When all k lie within r, the usual case, that list can pass neither
+// certificate (both need a candidate beyond the k-th), so the next call re-queries the point,
+// for K again once it moves slower. The table is the same either way (the query returns
+// the k nearest within r, which is all the row needs); only the paths change. kFastMove = 0.5
+// measured best of 0.3-1.0 on the benchmark sets (docs/PERFORMANCE.md).
+//
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
 // iterations move points by a small fraction of the neighbour spacing, so almost every point is
@@ -66,6 +77,9 @@ struct NeighbourCache {
   /// r_c = kRadiusMargin * r: a point near the edge of the data keeps its (incomplete) list
   /// until it has moved (kRadiusMargin - 1) * r.
   static constexpr double kRadiusMargin = 1.25;
+  /// A point re-queried after moving more than kFastMove * B_j since its last query is queried
+  /// for k candidates, not capacity (see the comment at the top).
+  static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it.
   void resize(std::size_t source_points, int capacity);

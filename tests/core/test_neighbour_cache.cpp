@@ -176,6 +176,56 @@ TEST_CASE("associate_cached queries only where the lists cannot prove the answer
   CHECK(cache.last_queries == source.size());
 }
 
+TEST_CASE("associate_cached: a fast mover is queried for k candidates, then for capacity again",
+          "[association]") {
+  // neighbour_cache.hpp, "Fast movers": a point re-queried after moving more than
+  // kFastMove x B_j since its last query gets a list of k (no spare candidate), which cannot
+  // prove the next call's row; once it moves slowly it is queried for capacity again.
+  Rng rng(58);
+  const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
+  const PointCloud source = core_test::uniform_cloud(rng, 1000, -0.6, 0.6);
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const int k = 10, capacity = 16;
+  const double radius = 0.3;  // r_c = 0.375: ~110 target points per ball, ~55 at the edge
+  NeighbourCache cache;
+  cache.resize(source.size(), capacity);
+  AssociationTable table;
+  table.resize(source.size(), k);
+  auto at = [](double x) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(x, 0, 0);
+    return T;
+  };
+  // Counts the points whose list holds `count` candidates and whose bound is within the radius.
+  auto lists_of = [&](std::uint16_t count) {
+    std::size_t n = 0;
+    for (std::size_t j = 0; j < source.size(); ++j) {
+      n += cache.count[j] == count && cache.bound[j] <= radius;
+    }
+    return n;
+  };
+  const std::vector<double> xs = {0.0, 0.3, 0.3001, 0.3002};
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    ppcr::detail::associate_cached(tree, target, source, at(xs[i]), radius, 1, &cache, &table);
+    INFO("pose " << i << " x " << xs[i]);
+    REQUIRE(table_mismatch(table, source, target, at(xs[i]), radius * radius) == "");
+    if (i == 0) {  // a first query is for capacity
+      CHECK(cache.last_queries == source.size());
+      CHECK(lists_of(capacity) == source.size());
+    } else if (i == 1) {  // moved 0.3 > kFastMove x B_j (B_j <= 0.375): lists of k
+      CHECK(0.3 > NeighbourCache::kFastMove * 1.25 * radius);
+      CHECK(cache.last_queries == source.size());
+      CHECK(lists_of(static_cast<std::uint16_t>(k)) == source.size());
+    } else if (i == 2) {  // moved 1e-4: the lists of k prove nothing; re-queried for capacity
+      CHECK(cache.last_queries == source.size());
+      CHECK(lists_of(capacity) == source.size());
+    } else {  // moved 1e-4 again: the full lists answer almost every row
+      CHECK(cache.last_queries < source.size() / 10);
+    }
+  }
+}
+
 TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried rows, bit for bit",
           "[association]") {
   // A warm cache answers most rows from its lists (distances computed in neighbour_cache.cpp);
