@@ -60,6 +60,13 @@ struct Scene {
   std::vector<Eigen::Isometry3d> poses;
 };
 
+// A translation by x along the x axis.
+Eigen::Isometry3d at(double x) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(x, 0, 0);
+  return T;
+}
+
 }  // namespace
 
 TEST_CASE("associate_cached equals brute force along a sequence of poses", "[association]") {
@@ -101,11 +108,6 @@ TEST_CASE("associate_cached: the set certificate holds inside rho and lets go ou
   const PointCloud source = {Eigen::Vector3d(0, 0, 0)};
   KdTree tree;
   REQUIRE(tree.build(target).ok());
-  auto at = [](double x) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(x, 0, 0);
-    return T;
-  };
   struct Case {
     const char* name;
     int k;
@@ -192,11 +194,6 @@ TEST_CASE("associate_cached: a fast mover is queried for k candidates, then for 
   cache.resize(source.size(), capacity);
   AssociationTable table;
   table.resize(source.size(), k);
-  auto at = [](double x) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(x, 0, 0);
-    return T;
-  };
   // Counts the points whose list holds `count` candidates and whose bound is within the radius.
   auto lists_of = [&](std::uint16_t count) {
     std::size_t n = 0;
