@@ -28,14 +28,15 @@
 //
 // Fast movers. A list holds while its point moves less than about B_j - D_j, a small part of B_j
 // (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
-// outer iterations move the points by more than that (the benchmark sets: every point re-queried
-// in iterations 2-4). Such a list costs a query of K and buys nothing. So a point re-queried after
-// moving more than kFastMove x B_j since its last query is queried for its k nearest only (B_j is
-// then its k-th distance). When all k lie within r, the usual case, that list can pass neither
-// certificate (both need a candidate beyond the k-th), so the next call re-queries the point,
-// for K again once it moves slower. The table is the same either way (the query returns
+// outer iterations move the points by more than that (the benchmark sets: nearly every point
+// re-queried in iterations 2-4). Such a list costs a query of K and buys nothing. So a point
+// re-queried after moving more than kFastMove x B_j since its last query is queried for its k
+// nearest only (B_j is then its k-th distance). When all k lie within r, the usual case, that list
+// can pass neither certificate (both need a candidate beyond the k-th), so the next call re-queries
+// the point, for K again once it moves slower. The table is the same either way (the query returns
 // the k nearest within r, which is all the row needs); only the paths change. kFastMove = 0.5
-// measured best of 0.3-1.0 on the benchmark sets (docs/PERFORMANCE.md).
+// measured best of 0.3-1.0 on the bunny set and within the noise of the best (0.4) on lidar
+// (docs/PERFORMANCE.md, update 99d96a2).
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
