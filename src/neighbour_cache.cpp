@@ -133,15 +133,13 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     double left_out_sq = 0.0;
     double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
     // The list certificate of neighbour_cache.hpp: true when the re-ranked candidates are the
-    // row. It needs kth + delta < B_j with kth >= 0, so a point that moved B_j or more since its
-    // query cannot pass it and goes straight to the query (the same table).
+    // row. It needs kth + delta < B_j, so a fast mover (delta > kFastMove x B_j) goes straight
+    // to the query (the same table): its list would pass only if kth < (1 - kFastMove) B_j, far
+    // below the k-th of K candidates on a surface (~0.85 B_j), and a point that moved B_j or
+    // more cannot pass at all.
     auto certified_rerank = [&]() {
       const double delta = (p - cache->query[j]).norm();
-      if (!(delta < cache->bound[j])) return false;
-      // Nor can a list of exactly k with B_j <= r (a fast mover's, below): the candidate at B_j
-      // from q_j is at least B_j - delta from p, so kth >= B_j - delta whether all k are within
-      // r (kth = their largest distance) or not (kth = r >= B_j).
-      if (cache->count[j] == k && cache->bound[j] <= radius) return false;
+      if (!(delta <= NeighbourCache::kFastMove * cache->bound[j])) return false;
       // Distances first (independent gathers the CPU overlaps), then the branchy selection.
       distances(target, p, cand, cache->count[j], cand_d);
       const int n =
@@ -166,12 +164,17 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // a point took. The tree's distances are computed as distances() computes them: the same
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
     // A point that moved more than kFastMove x B_j since its last query is likely to move past
-    // a new list's margin too: it is queried for its k nearest only (a cheaper query; the list
-    // usually proves nothing, and the point is queried again next time). neighbour_cache.hpp.
+    // a new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
+    // The k + 1-th decides ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the
+    // k-th, the point is queried for capacity after all.
     const bool fast = cache->bound[j] >= 0.0 &&
                       (p - cache->query[j]).norm() > NeighbourCache::kFastMove * cache->bound[j];
-    const int want = fast ? k : capacity;
-    const int found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+    int want = fast ? std::min(k + 1, capacity) : capacity;
+    int found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+    if (want < capacity && found == want && !(cand_d[k] > cand_d[k - 1])) {
+      want = capacity;
+      found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+    }
     cache->count[j] = static_cast<std::uint16_t>(found);
     cache->bound[j] = found == want ? std::sqrt(cand_d[want - 1]) : candidate_radius;
     cache->query[j] = p;

@@ -2,9 +2,10 @@
 // radius, re-ranked from a per-point candidate list and re-queried only where that list cannot
 // prove the answer.
 //
-// For source point j the cache holds the K = capacity nearest target points to q_j (the point's
-// position when they were searched) within the candidate radius r_c (> r), and a bound B_j such
-// that every target point NOT in the list is at least B_j from q_j:
+// For source point j the cache holds the K = capacity (k + 1 for a fast mover, below) nearest
+// target points to q_j (the point's position when they were searched) within the candidate
+// radius r_c (> r), and a bound B_j such that every target point NOT in the list is at least B_j
+// from q_j:
 //   B_j = distance of the K-th candidate when K were found, else r_c (the list is every point
 //   within r_c).
 // At a new position p_j with delta_j = |p_j - q_j|, every uncached point is at least
@@ -30,13 +31,16 @@
 // (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
 // outer iterations move the points by more than that (the benchmark sets: nearly every point
 // re-queried in iterations 2-4). Such a list costs a query of K and buys nothing. So a point
-// re-queried after moving more than kFastMove x B_j since its last query is queried for its k
-// nearest only (B_j is then its k-th distance). When all k lie within r, the usual case, that list
-// can pass neither certificate (both need a candidate beyond the k-th), so the next call re-queries
-// the point, for K again once it moves slower. The table is the same either way (the query returns
-// the k nearest within r, which is all the row needs); only the paths change. kFastMove = 0.5
-// measured best of 0.3-1.0 on the bunny set and within the noise of the best (0.4) on lidar
-// (docs/PERFORMANCE.md, update 99d96a2).
+// re-queried after moving more than kFastMove x B_j since its last query is queried for its
+// k + 1 nearest only (its list then holds k + 1, or fewer when that is every point within r_c).
+// Ties: the tree keeps, among points tied at its last distance, those it visits first, so a
+// query of k + 1 whose k + 1-th is exactly as near as its k-th is repeated for K, and the row is
+// the same as a query of K gives in every case (so are the traces). While a point keeps moving
+// more than kFastMove x B_j per call it skips its list (whose certificate would need
+// kth < (1 - kFastMove) B_j) and is queried for k + 1 again; once it moves slower it tries its
+// list, and a failing one is queried for K. kFastMove = 0.5 measured best of 0.3-1.0 on the
+// bunny set and within the noise of the best (0.4) on lidar (docs/PERFORMANCE.md, update
+// 99d96a2, which queried k, not k + 1, and so missed the ties, and the update above it).
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -79,7 +83,7 @@ struct NeighbourCache {
   /// until it has moved (kRadiusMargin - 1) * r.
   static constexpr double kRadiusMargin = 1.25;
   /// A point re-queried after moving more than kFastMove * B_j since its last query is queried
-  /// for k candidates, not capacity (see the comment at the top).
+  /// for k + 1 candidates, not capacity (see the comment at the top).
   static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it.

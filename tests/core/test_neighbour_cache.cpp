@@ -2,7 +2,9 @@
 // near the edge of the data, points with no neighbour), the table equals a brute-force
 // radius-limited kNN of every transformed source point, it does not depend on the thread count,
 // and the k-d tree is queried only where the candidate lists cannot prove the answer.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -178,31 +180,35 @@ TEST_CASE("associate_cached queries only where the lists cannot prove the answer
   CHECK(cache.last_queries == source.size());
 }
 
-TEST_CASE("associate_cached: a fast mover is queried for k candidates, then for capacity again",
+TEST_CASE("associate_cached: a fast mover is queried for k + 1 candidates, then for capacity",
           "[association]") {
   // neighbour_cache.hpp, "Fast movers": a point re-queried after moving more than
-  // kFastMove x B_j since its last query gets a list of k (no spare candidate), which cannot
-  // prove the next call's row; once it moves slowly it is queried for capacity again.
+  // kFastMove x B_j since its last query gets a list of k + 1; once it moves slowly, a point
+  // whose list fails is queried for capacity again.
   Rng rng(58);
   const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
   const PointCloud source = core_test::uniform_cloud(rng, 1000, -0.6, 0.6);
   KdTree tree;
   REQUIRE(tree.build(target).ok());
   const int k = 10, capacity = 16;
-  const double radius = 0.3;  // r_c = 0.375: ~110 target points per ball, ~55 at the edge
+  const double radius = 0.3;  // r_c = 0.375: ~110 target points per ball, ~77 or more here
   NeighbourCache cache;
   cache.resize(source.size(), capacity);
   AssociationTable table;
   table.resize(source.size(), k);
-  // Counts the points whose list holds `count` candidates and whose bound is within the radius.
-  auto lists_of = [&](std::uint16_t count) {
+  // Counts the points whose list holds `count` candidates, its bound the last one's distance.
+  auto lists_of = [&](int count) {
     std::size_t n = 0;
     for (std::size_t j = 0; j < source.size(); ++j) {
-      n += cache.count[j] == count && cache.bound[j] <= radius;
+      n += cache.count[j] == count && cache.bound[j] < NeighbourCache::kRadiusMargin * radius;
     }
     return n;
   };
-  const std::vector<double> xs = {0.0, 0.3, 0.3001, 0.3002};
+  // Moves along x: a jump of 0.3 > kFastMove x r_c >= kFastMove x B_j, then 0.05 (below
+  // kFastMove x B_j for every point: the 16th neighbour is beyond 0.1 here, see the check),
+  // then 1e-4.
+  REQUIRE(0.3 > NeighbourCache::kFastMove * NeighbourCache::kRadiusMargin * radius);
+  const std::vector<double> xs = {0.0, 0.3, 0.35, 0.3501};
   for (std::size_t i = 0; i < xs.size(); ++i) {
     ppcr::detail::associate_cached(tree, target, source, at(xs[i]), radius, 1, &cache, &table);
     INFO("pose " << i << " x " << xs[i]);
@@ -210,16 +216,78 @@ TEST_CASE("associate_cached: a fast mover is queried for k candidates, then for 
     if (i == 0) {  // a first query is for capacity
       CHECK(cache.last_queries == source.size());
       CHECK(lists_of(capacity) == source.size());
-    } else if (i == 1) {  // moved 0.3 > kFastMove x B_j (B_j <= 0.375): lists of k
-      CHECK(0.3 > NeighbourCache::kFastMove * 1.25 * radius);
+      double nearest_bound = 1e300;
+      for (double b : cache.bound) nearest_bound = std::min(nearest_bound, b);
+      CHECK(0.05 < NeighbourCache::kFastMove * nearest_bound);
+    } else if (i == 1) {  // every point moved fast: lists of k + 1
       CHECK(cache.last_queries == source.size());
-      CHECK(lists_of(static_cast<std::uint16_t>(k)) == source.size());
-    } else if (i == 2) {  // moved 1e-4: the lists of k prove nothing; re-queried for capacity
-      CHECK(cache.last_queries == source.size());
-      CHECK(lists_of(capacity) == source.size());
-    } else {  // moved 1e-4 again: the full lists answer almost every row
+      CHECK(lists_of(k + 1) == source.size());
+    } else if (i == 2) {  // slow: a re-queried point gets capacity again, the others keep k + 1
+      std::size_t queried_full = 0, kept = 0;
+      for (std::size_t j = 0; j < source.size(); ++j) {
+        if (cache.path[j] == NeighbourCache::kQueried) {
+          queried_full += cache.count[j] == capacity;
+        } else {
+          kept += cache.count[j] == k + 1;
+        }
+      }
+      CHECK(cache.last_queries > source.size() / 2);  // 0.05 exceeds most lists' margin
+      CHECK(queried_full == cache.last_queries);
+      CHECK(kept == source.size() - cache.last_queries);
+    } else {  // moved 1e-4: the lists answer almost every row
       CHECK(cache.last_queries < source.size() / 10);
     }
+  }
+}
+
+TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike on every path",
+          "[association]") {
+  // An integer lattice in shuffled order, and source points moved onto lattice points: each
+  // has 1 + 6 + 12 target points at squared distances 0, 1 and 2 (exact in double), so the
+  // 8th to 19th nearest tie. The tree keeps tied points in its visiting order; a fast mover's
+  // query of k + 1 sees the tie and is repeated for capacity, so its row is the one a fresh
+  // cache (a query of capacity) gives, index for index.
+  Rng rng(59);
+  PointCloud target;
+  for (int x = 0; x < 10; ++x) {
+    for (int y = 0; y < 10; ++y) {
+      for (int z = 0; z < 10; ++z) target.emplace_back(x, y, z);
+    }
+  }
+  std::shuffle(target.begin(), target.end(), rng);  // index order unlike the tree's order
+  PointCloud source;
+  for (int x = 2; x < 7; ++x) {
+    for (int y = 2; y < 7; ++y) {
+      for (int z = 2; z < 7; ++z) source.emplace_back(x + 0.5, y + 0.5, z + 0.5);
+    }
+  }
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const int k = 10, capacity = 16;
+  const double radius = 2.5;
+  NeighbourCache warm;
+  warm.resize(source.size(), capacity);
+  AssociationTable t_warm, t_fresh;
+  t_warm.resize(source.size(), k);
+  t_fresh.resize(source.size(), k);
+  // At cell centres first (B_j = sqrt(2.75) ~ 1.66: the 16th of 8 + 24 points at sqrt(0.75)
+  // and sqrt(2.75)), then onto lattice points, a move of sqrt(0.75) ~ 0.87 > kFastMove x B_j:
+  // every point is a fast mover.
+  const Eigen::Vector3d onto_lattice(0.5, -0.5, -0.5);
+  REQUIRE(onto_lattice.norm() > NeighbourCache::kFastMove * std::sqrt(2.75));
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d(0, 0, 0), onto_lattice}) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = shift;
+    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, &warm, &t_warm);
+    NeighbourCache fresh;
+    fresh.resize(source.size(), capacity);
+    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, &fresh, &t_fresh);
+    INFO("shift " << shift.transpose());
+    REQUIRE(table_mismatch(t_warm, source, target, T, radius * radius) == "");
+    CHECK(warm.last_queries == source.size());
+    CHECK(t_warm.count == t_fresh.count);
+    CHECK(t_warm.index == t_fresh.index);
+    CHECK(t_warm.dist_sq == t_fresh.dist_sq);
   }
 }
 
