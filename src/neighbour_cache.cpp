@@ -65,16 +65,21 @@ void resort(const PointCloud& target, const Eigen::Vector3d& p, int n, std::uint
   for (int m = 1; m < n; ++m) insert_sorted(m, d[m], idx[m], idx, d);
 }
 
+// What both certificates give up against the rounding of the distances at p: 1e-9 of the
+// radius, and 1e-12 of |p| for coordinates far larger than the radius. (Without it, an exact
+// tie such as sqrt(18) + sqrt(2) = sqrt(32) can compute as strictly less.)
+double rounding_margin(double radius, const Eigen::Vector3d& p) {
+  return 1e-9 * radius + 1e-12 * p.norm();
+}
+
 // rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held, m
 // the largest held distance (0 if none), and every outside point at least outside_min away.
-// The margin covers the rounding of the distances: 1e-9 of the radius, and 1e-12 of |p'| for
-// coordinates far larger than the radius.
 double set_radius(int n, int k, double m, double radius, double outside_min,
                   const Eigen::Vector3d& p) {
   const double enter = outside_min - radius;  // no outside point enters the radius
   const double rho = n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
                             : std::min(radius - m, enter);
-  return rho - 1e-9 * radius - 1e-12 * p.norm();
+  return rho - rounding_margin(radius, p);
 }
 
 }  // namespace
@@ -146,7 +151,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
           rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
       const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
       const double kth = n == k ? m : radius;
-      if (!(kth + delta < cache->bound[j])) return false;
+      if (!(kth + delta < cache->bound[j] - rounding_margin(radius, p))) return false;
       ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
       cache->path[j] = NeighbourCache::kReranked;
       return true;

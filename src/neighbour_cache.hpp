@@ -2,10 +2,10 @@
 // radius, re-ranked from a per-point candidate list and re-queried only where that list cannot
 // prove the answer.
 //
-// For source point j the cache holds the K = capacity (k + 1 for a fast mover, below) nearest
-// target points to q_j (the point's position when they were searched) within the candidate
-// radius r_c (> r), and a bound B_j such that every target point NOT in the list is at least B_j
-// from q_j:
+// For source point j the cache holds the K = capacity (k + 1 for a fast mover without a tie,
+// below) nearest target points to q_j (the point's position when they were searched) within the
+// candidate radius r_c (> r), and a bound B_j such that every target point NOT in the list is at
+// least B_j from q_j:
 //   B_j = distance of the K-th candidate when K were found, else r_c (the list is every point
 //   within r_c).
 // At a new position p_j with delta_j = |p_j - q_j|, every uncached point is at least
@@ -23,7 +23,8 @@
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
-// rho_j is shrunk by 1e-9 r + 1e-12 |p'| against rounding. The table row must be the one this
+// Both certificates give up 1e-9 r + 1e-12 |p| against rounding (D_j < B_j - delta_j - that,
+// rho_j - that). The table row must be the one this
 // cache's last call wrote: a call with another table, k or radius invalidates the cache first;
 // no other code may write the table between two calls.
 //
@@ -35,12 +36,12 @@
 // k + 1 nearest only (its list then holds k + 1, or fewer when that is every point within r_c).
 // Ties: the tree keeps, among points tied at its last distance, those it visits first, so a
 // query of k + 1 whose k + 1-th is exactly as near as its k-th is repeated for K, and the row is
-// the same as a query of K gives in every case (so are the traces). While a point keeps moving
-// more than kFastMove x B_j per call it skips its list (whose certificate would need
+// the same as a query of K gives in every case (so are the traces). While a point has moved
+// more than kFastMove x B_j since its last query it skips its list (whose certificate would need
 // kth < (1 - kFastMove) B_j) and is queried for k + 1 again; once it moves slower it tries its
 // list, and a failing one is queried for K. kFastMove = 0.5 measured best of 0.3-1.0 on the
 // bunny set and within the noise of the best (0.4) on lidar (docs/PERFORMANCE.md, update
-// 99d96a2, which queried k, not k + 1, and so missed the ties, and the update above it).
+// "99d96a2, 2a6eab6"; 99d96a2 queried k, not k + 1, and so missed the ties).
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
