@@ -65,21 +65,15 @@ void resort(const PointCloud& target, const Eigen::Vector3d& p, int n, std::uint
   for (int m = 1; m < n; ++m) insert_sorted(m, d[m], idx[m], idx, d);
 }
 
-// What both certificates give up against the rounding of the distances at p: 1e-9 of the
-// radius, and 1e-12 of |p| for coordinates far larger than the radius. (Without it, an exact
-// tie such as sqrt(18) + sqrt(2) = sqrt(32) can compute as strictly less.)
-double rounding_margin(double radius, const Eigen::Vector3d& p) {
-  return 1e-9 * radius + 1e-12 * p.norm();
-}
-
-// rho_j of the set certificate (neighbour_cache.hpp) after a re-rank at p' with n of k held, m
-// the largest held distance (0 if none), and every outside point at least outside_min away.
-double set_radius(int n, int k, double m, double radius, double outside_min,
-                  const Eigen::Vector3d& p) {
+// rho_j^2 of the set certificate (neighbour_cache.hpp) after a re-rank with n of k held, m the
+// largest held distance (0 if none), every outside point at least outside_min away, and `margin`
+// given up against rounding; -1 (none) when rho_j <= 0.
+double set_radius_sq(int n, int k, double m, double radius, double outside_min, double margin) {
   const double enter = outside_min - radius;  // no outside point enters the radius
-  const double rho = n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
-                            : std::min(radius - m, enter);
-  return rho - rounding_margin(radius, p);
+  const double rho = (n == k ? std::min(radius - m, std::max(0.5 * (outside_min - m), enter))
+                             : std::min(radius - m, enter)) -
+                     margin;
+  return rho > 0.0 ? rho * rho : -1.0;
 }
 
 }  // namespace
@@ -92,13 +86,14 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   bound.resize(source_points);
   path.resize(source_points);
   ranked_at.resize(source_points);
-  set_radius.resize(source_points);
+  set_radius_sq.resize(source_points);
   invalidate();
 }
 
 void NeighbourCache::invalidate() {
   for (double& b : bound) b = -1.0;
-  for (double& rho : set_radius) rho = -1.0;
+  for (double& rho_sq : set_radius_sq) rho_sq = -1.0;
+  source_extent = -1.0;
   table = nullptr;
   last_queries = 0;
   last_resorted = 0;
@@ -121,6 +116,17 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   if (cache->table != table || cache->table_k != k || cache->table_radius != radius) {
     cache->invalidate();
   }
+  // What both certificates give up against the rounding of the distances at p: 1e-9 of the
+  // radius, and 1e-12 of |p| for coordinates far larger than the radius. (Without it, an exact
+  // tie such as sqrt(18) + sqrt(2) = sqrt(32) can compute as strictly less.) |p| <= max_j |s_j|
+  // + |t| bounds every point of the call (R is a rotation), so the margin is one number per call;
+  // max_j |s_j| is kept until the cache is invalidated, as it must be when the source changes.
+  if (cache->source_extent < 0.0) {
+    double extent_sq = 0.0;
+    for (const Eigen::Vector3d& s : source) extent_sq = std::max(extent_sq, s.squaredNorm());
+    cache->source_extent = std::sqrt(extent_sq);
+  }
+  const double margin = 1e-9 * radius + 1e-12 * (cache->source_extent + t.norm());
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
     const std::size_t j = static_cast<std::size_t>(jj);
     const std::size_t slot = j * static_cast<std::size_t>(k);
@@ -129,53 +135,77 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     double* out_d = &table->dist_sq[slot];
     std::uint32_t* cand = &cache->index[cslot];
     const Eigen::Vector3d p = R * source[j] + t;
-    // The row re-ranked at p: its count, p' and rho (outside_min bounds every point not kept).
+    // The row re-ranked at p: its count, p' and rho^2 (outside_min bounds every point not kept).
     auto ranked = [&](int n, double m, double outside_min) {
       table->count[j] = static_cast<std::uint16_t>(n);
       cache->ranked_at[j] = p;
-      cache->set_radius[j] = set_radius(n, k, m, radius, outside_min, p);
+      cache->set_radius_sq[j] = set_radius_sq(n, k, m, radius, outside_min, margin);
     };
     double left_out_sq = 0.0;
+    bool listed_distances = false;                // cand_d holds the list's distances at p
     double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
-    // The list certificate of neighbour_cache.hpp: true when the re-ranked candidates are the
-    // row. It needs kth + delta < B_j, so a fast mover (delta > kFastMove x B_j) goes straight
-    // to the query (the same table): its list would pass only if kth < (1 - kFastMove) B_j, far
-    // below the k-th of K candidates on a surface (~0.85 B_j), and a point that moved B_j or
-    // more cannot pass at all.
-    auto certified_rerank = [&]() {
-      const double delta = (p - cache->query[j]).norm();
+    // The list certificate of neighbour_cache.hpp for a point that moved delta since its list's
+    // query: true when the re-ranked candidates are the row. It needs kth + delta < B_j, so a
+    // fast mover (delta > kFastMove x B_j) goes straight to the query (the same table): its list
+    // would pass only if kth < (1 - kFastMove) B_j, far below the k-th of K candidates on a
+    // surface (~0.85 B_j), and a point that moved B_j or more cannot pass at all.
+    auto certified_rerank = [&](double delta) {
       if (!(delta <= NeighbourCache::kFastMove * cache->bound[j])) return false;
       // Distances first (independent gathers the CPU overlaps), then the branchy selection.
       distances(target, p, cand, cache->count[j], cand_d);
+      listed_distances = true;
       const int n =
           rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
       const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
       const double kth = n == k ? m : radius;
-      if (!(kth + delta < cache->bound[j] - rounding_margin(radius, p))) return false;
+      if (!(kth + delta < cache->bound[j] - margin)) return false;
       ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
       cache->path[j] = NeighbourCache::kReranked;
       return true;
     };
+    // A point that moved more than kFastMove x B_j since its last query is likely to move past
+    // a new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
+    bool fast = false;
     if (cache->bound[j] >= 0.0) {
-      if ((p - cache->ranked_at[j]).norm() < cache->set_radius[j]) {
-        resort(target, p, table->count[j], out_idx, out_d);  // the set certificate
+      // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared;
+      // the margin above covers the rounding of either side).
+      if ((p - cache->ranked_at[j]).squaredNorm() < cache->set_radius_sq[j]) {
+        resort(target, p, table->count[j], out_idx, out_d);
         cache->path[j] = NeighbourCache::kResorted;
         return;
       }
-      if (certified_rerank()) return;
+      const double delta = (p - cache->query[j]).norm();
+      fast = delta > NeighbourCache::kFastMove * cache->bound[j];
+      if (certified_rerank(delta)) return;
     }
     // Re-query: the K nearest within r_c around p (their distances go to cand_d), then
     // the same re-rank as a cache hit, so that the table's tie order never depends on which path
     // a point took. The tree's distances are computed as distances() computes them: the same
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
-    // A point that moved more than kFastMove x B_j since its last query is likely to move past
-    // a new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
     // The k + 1-th decides ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the
     // k-th, the point is queried for capacity after all.
-    const bool fast = cache->bound[j] >= 0.0 &&
-                      (p - cache->query[j]).norm() > NeighbourCache::kFastMove * cache->bound[j];
+    // A point with a list of at least `want` candidates seeds its query: they are target points,
+    // so the largest of their squared distances at p bounds the want-th nearest's, b. Bounded by
+    // b (1e-9 larger, against the rounding of the tree's cell bounds) instead of r_c^2, the
+    // search prunes from its first leaf and finds the same want nearest, in the same order (the
+    // tree visits the same cells in the same order; it skips only cells beyond b). Should it
+    // find fewer than want within b (rounding beyond that slack), the point is queried again
+    // without the seed.
+    auto query = [&](int want) {
+      double bound_sq = candidate_radius_sq;
+      const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;
+      if (listed >= want) {
+        if (!listed_distances) distances(target, p, cand, listed, cand_d);
+        double b = 0.0;
+        for (int c = 0; c < listed; ++c) b = cand_d[c] > b ? cand_d[c] : b;
+        bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
+      }
+      const int found = target_tree.radius_knn(p, want, bound_sq, cand, cand_d);
+      if (found == want || bound_sq == candidate_radius_sq) return found;
+      return target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+    };
     int want = fast ? std::min(k + 1, capacity) : capacity;
-    int found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+    int found = query(want);
     if (want < capacity && found == want && !(cand_d[k] > cand_d[k - 1])) {
       want = capacity;
       found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);

@@ -23,10 +23,10 @@
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
-// Both certificates give up 1e-9 r + 1e-12 |p| against rounding (D_j < B_j - delta_j - that,
-// rho_j - that). The table row must be the one this
-// cache's last call wrote: a call with another table, k or radius invalidates the cache first;
-// no other code may write the table between two calls.
+// Both certificates give up 1e-9 r + 1e-12 (max_j |s_j| + |t|) against rounding (D_j < B_j -
+// delta_j - that, rho_j - that; the second term bounds |p| for every point of a call). The
+// table row must be the one this cache's last call wrote: a call with another table, k or
+// radius invalidates the cache first; no other code may write the table between two calls.
 //
 // Fast movers. A list holds while its point moves less than about B_j - D_j, a small part of B_j
 // (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
@@ -39,9 +39,14 @@
 // the same as a query of K gives in every case (so are the traces). While a point has moved
 // more than kFastMove x B_j since its last query it skips its list (whose certificate would need
 // kth < (1 - kFastMove) B_j) and is queried for k + 1 again; once it moves slower it tries its
-// list, and a failing one is queried for K. kFastMove = 0.5 measured best of 0.3-1.0 on the
-// bunny set and within the noise of the best (0.4) on lidar (docs/PERFORMANCE.md, update
-// "99d96a2, 2a6eab6"; 99d96a2 queried k, not k + 1, and so missed the ties).
+// list, and a failing one is queried for K. kFastMove = 0.5: see its comment below.
+//
+// Seeded queries. A re-queried point's list (of at least as many candidates as the query wants)
+// holds real target points, so the largest of their squared distances at p, b, bounds the
+// distance of the query's last neighbour. The query is bounded by b (plus 1e-9 b against the
+// rounding of the tree's cell bounds) instead of r_c^2: it prunes from its first leaf and finds
+// the same neighbours. Should it find fewer (rounding beyond that slack), it is repeated without
+// the bound.
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -63,12 +68,12 @@ namespace detail {
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
   int capacity = 0;
-  std::vector<std::uint32_t> index;  // capacity slots per source point
-  std::vector<std::uint16_t> count;  // candidates held (<= capacity)
-  PointCloud query;                  // q_j, the tree's frame
-  std::vector<double> bound;         // B_j, cloud units; < 0 = no list yet
-  PointCloud ranked_at;              // p', where point j was last re-ranked
-  std::vector<double> set_radius;    // rho_j, cloud units; < 0 = none
+  std::vector<std::uint32_t> index;   // capacity slots per source point
+  std::vector<std::uint16_t> count;   // candidates held (<= capacity)
+  PointCloud query;                   // q_j, the tree's frame
+  std::vector<double> bound;          // B_j, cloud units; < 0 = no list yet
+  PointCloud ranked_at;               // p', where point j was last re-ranked
+  std::vector<double> set_radius_sq;  // rho_j^2, squared cloud units; < 0 = none (rho_j <= 0)
   // The path each point took in the last associate_cached.
   enum Path : std::uint8_t { kReranked = 0, kQueried = 1, kResorted = 2 };
   std::vector<std::uint8_t> path;
@@ -76,6 +81,7 @@ struct NeighbourCache {
   std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
   // What the last call was for: another table, k or radius invalidates the cache first.
   const AssociationTable* table = nullptr;
+  double source_extent = -1.0;  // max_j |s_j| of the source, cloud units; < 0 = not yet known
   int table_k = 0;
   double table_radius = 0.0;
 

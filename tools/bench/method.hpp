@@ -19,6 +19,9 @@ struct MethodSettings {
   double ndt_resolution = 1.0;      // NDT cell size (= 2 x --radius by default)
   int max_iterations = 100;         // iteration cap for the peers (= --max-iterations)
   int threads = 1;
+  // ppcr: one ppcr::Registration for every problem (set_target and align per problem: the loop
+  // usage, whose buffers are reused), instead of ppcr::align per problem (the default).
+  bool reuse_registration = false;
 };
 
 struct MethodResult {

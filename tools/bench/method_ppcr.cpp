@@ -12,7 +12,8 @@ namespace {
 
 class PpcrMethod : public Method {
  public:
-  explicit PpcrMethod(const ppcr::RegistrationOptions& options) : options_(options) {}
+  PpcrMethod(const ppcr::RegistrationOptions& options, bool reuse)
+      : options_(options), reuse_(reuse) {}
   std::string name() const override { return "ppcr"; }
   void set_trace(const Eigen::Isometry3d* T_gt) override {
     trace_ = T_gt != nullptr;
@@ -21,9 +22,24 @@ class PpcrMethod : public Method {
   MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) override {
     ppcr::RegistrationOptions options = options_;
     options.record_history = trace_;
-    const ppcr::RegistrationResult r = ppcr::align(
-        source, target, options, Eigen::Isometry3d::Identity(), trace_ ? &T_gt_ : nullptr);
+    const Eigen::Isometry3d* T_gt = trace_ ? &T_gt_ : nullptr;
     MethodResult out;
+    ppcr::RegistrationResult r;
+    if (reuse_) {
+      // The loop usage: one Registration, its buffers reused from problem to problem (made
+      // again only if the trace setting changes).
+      if (!registration_ || registration_->options().record_history != trace_) {
+        registration_ = std::make_unique<ppcr::Registration>(options);
+      }
+      const ppcr::Status s = registration_->set_target(target);
+      if (!s.ok()) {
+        out.message = s.message();
+        return out;
+      }
+      r = registration_->align(source, Eigen::Isometry3d::Identity(), T_gt);
+    } else {
+      r = ppcr::align(source, target, options, Eigen::Isometry3d::Identity(), T_gt);
+    }
     out.ok = r.status.ok();
     out.message = r.status.message();
     out.T_target_source = r.T_target_source;
@@ -36,6 +52,8 @@ class PpcrMethod : public Method {
 
  private:
   ppcr::RegistrationOptions options_;
+  bool reuse_;
+  std::unique_ptr<ppcr::Registration> registration_;  // with reuse_
   bool trace_ = false;
   Eigen::Isometry3d T_gt_ = Eigen::Isometry3d::Identity();
 };
@@ -55,7 +73,7 @@ std::unique_ptr<Method> make_method(const std::string& name, const MethodSetting
     ppcr::RegistrationOptions options = settings.ppcr;
     options.source_voxel = options.target_voxel = 0.0;  // the bench filters once, for everyone
     options.record_history = false;
-    return std::make_unique<PpcrMethod>(options);
+    return std::make_unique<PpcrMethod>(options, settings.reuse_registration);
   }
 #ifdef PPCR_HAVE_PEERS
   return make_peer(name, settings);

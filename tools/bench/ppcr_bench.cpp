@@ -121,6 +121,10 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "no progress bar");
   std::string label;
   app.add_option("--label", label, "name of this run in the summary and CSV (default: the method)");
+  bool reuse = false;
+  app.add_flag("--reuse", reuse,
+               "ppcr: one ppcr::Registration for every problem (set_target + align per problem, "
+               "the loop usage) instead of ppcr::align per problem; same results");
   double ndt_resolution = 0.0;
   app.add_option("--ndt-resolution", ndt_resolution,
                  "pcl-ndt cell size, cloud units (default 2 x radius)");
@@ -146,6 +150,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (limit < 0) return fail("--limit " + std::to_string(limit) + ": expected >= 0");
+  if (reuse && method_name != "ppcr")
+    return fail("--reuse is for --method ppcr, got " + method_name);
   if (success_translation < 0.0) success_translation = 0.1 * options.radius;
   std::vector<ppcr_bench::Problem> problems;
   s = ppcr_bench::read_problems(problems_path, &problems);
@@ -159,6 +165,7 @@ int main(int argc, char** argv) {
   settings.ndt_resolution = ndt_resolution > 0.0 ? ndt_resolution : 2.0 * options.radius;
   settings.max_iterations = options.termination.max_iterations;
   settings.threads = options.num_threads;
+  settings.reuse_registration = reuse;
   std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(method_name, settings);
   if (!method) {
     std::string names;
