@@ -93,7 +93,6 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
 void NeighbourCache::invalidate() {
   for (double& b : bound) b = -1.0;
   for (double& rho_sq : set_radius_sq) rho_sq = -1.0;
-  source_extent = -1.0;
   table = nullptr;
   last_queries = 0;
   last_resorted = 0;
@@ -116,17 +115,6 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   if (cache->table != table || cache->table_k != k || cache->table_radius != radius) {
     cache->invalidate();
   }
-  // What both certificates give up against the rounding of the distances at p: 1e-9 of the
-  // radius, and 1e-12 of |p| for coordinates far larger than the radius. (Without it, an exact
-  // tie such as sqrt(18) + sqrt(2) = sqrt(32) can compute as strictly less.) |p| <= max_j |s_j|
-  // + |t| bounds every point of the call (R is a rotation), so the margin is one number per call;
-  // max_j |s_j| is kept until the cache is invalidated, as it must be when the source changes.
-  if (cache->source_extent < 0.0) {
-    double extent_sq = 0.0;
-    for (const Eigen::Vector3d& s : source) extent_sq = std::max(extent_sq, s.squaredNorm());
-    cache->source_extent = std::sqrt(extent_sq);
-  }
-  const double margin = 1e-9 * radius + 1e-12 * (cache->source_extent + t.norm());
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
     const std::size_t j = static_cast<std::size_t>(jj);
     const std::size_t slot = j * static_cast<std::size_t>(k);
@@ -135,6 +123,11 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     double* out_d = &table->dist_sq[slot];
     std::uint32_t* cand = &cache->index[cslot];
     const Eigen::Vector3d p = R * source[j] + t;
+    // What both certificates give up against the rounding of the distances at p: 1e-9 of the
+    // radius, and 1e-12 of |p| for coordinates far larger than the radius, bounded by the L1 norm
+    // (no square root). (Without it, an exact tie such as sqrt(18) + sqrt(2) = sqrt(32) can
+    // compute as strictly less.)
+    const double margin = 1e-9 * radius + 1e-12 * p.cwiseAbs().sum();
     // The row re-ranked at p: its count, p' and rho^2 (outside_min bounds every point not kept).
     auto ranked = [&](int n, double m, double outside_min) {
       table->count[j] = static_cast<std::uint16_t>(n);
@@ -187,10 +180,11 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // A point with a list of at least `want` candidates seeds its query: they are target points,
     // so the largest of their squared distances at p bounds the want-th nearest's, b. Bounded by
     // b (1e-9 larger, against the rounding of the tree's cell bounds) instead of r_c^2, the
-    // search prunes from its first leaf and finds the same want nearest, in the same order (the
-    // tree visits the same cells in the same order; it skips only cells beyond b). Should it
-    // find fewer than want within b (rounding beyond that slack), the point is queried again
-    // without the seed.
+    // search prunes from its first leaf and finds the same want nearest, in the same order: the
+    // tree visits cells in the same order; until it holds want points it also skips the cells
+    // beyond b, which hold none of them, and from then on it prunes by its want-th as the
+    // unbounded search does. Should it find fewer than want within b (rounding beyond that
+    // slack), the point is queried again without the seed.
     auto query = [&](int want) {
       double bound_sq = candidate_radius_sq;
       const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;

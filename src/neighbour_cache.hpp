@@ -23,10 +23,10 @@
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
-// Both certificates give up 1e-9 r + 1e-12 (max_j |s_j| + |t|) against rounding (D_j < B_j -
-// delta_j - that, rho_j - that; the second term bounds |p| for every point of a call). The
-// table row must be the one this cache's last call wrote: a call with another table, k or
-// radius invalidates the cache first; no other code may write the table between two calls.
+// Both certificates give up 1e-9 r + 1e-12 |p|_1 against rounding (D_j < B_j - delta_j - that,
+// rho_j - that; the L1 norm bounds |p| without a square root). The table row must be the one
+// this cache's last call wrote: a call with another table, k or radius invalidates the cache
+// first; no other code may write the table between two calls.
 //
 // Fast movers. A list holds while its point moves less than about B_j - D_j, a small part of B_j
 // (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
@@ -81,7 +81,6 @@ struct NeighbourCache {
   std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
   // What the last call was for: another table, k or radius invalidates the cache first.
   const AssociationTable* table = nullptr;
-  double source_extent = -1.0;  // max_j |s_j| of the source, cloud units; < 0 = not yet known
   int table_k = 0;
   double table_radius = 0.0;
 
@@ -90,7 +89,10 @@ struct NeighbourCache {
   /// until it has moved (kRadiusMargin - 1) * r.
   static constexpr double kRadiusMargin = 1.25;
   /// A point re-queried after moving more than kFastMove * B_j since its last query is queried
-  /// for k + 1 candidates, not capacity (see the comment at the top).
+  /// for k + 1 candidates, not capacity (see the comment at the top). 0.5 was the best of 0.3-1.0
+  /// on the bunny set with 99d96a2's rule (k candidates); with k + 1 and seeded queries, neither
+  /// 0.4 nor 0.7 was faster on both benchmark sets (docs/PERFORMANCE.md, updates 99d96a2 and
+  /// cc74b40).
   static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it.

@@ -25,6 +25,30 @@ using ppcr::detail::NeighbourCache;
 
 namespace {
 
+// The points of a 10 x 10 x 10 integer lattice, in shuffled order (index order unlike the k-d
+// tree's order): many exactly tied distances (exact in double).
+PointCloud shuffled_lattice(Rng& rng) {
+  PointCloud target;
+  for (int x = 0; x < 10; ++x) {
+    for (int y = 0; y < 10; ++y) {
+      for (int z = 0; z < 10; ++z) target.emplace_back(x, y, z);
+    }
+  }
+  std::shuffle(target.begin(), target.end(), rng);
+  return target;
+}
+
+// The centres of the lattice's inner cells (2.5 .. 6.5 on each axis), far from its edges.
+PointCloud cell_centres() {
+  PointCloud source;
+  for (int x = 2; x < 7; ++x) {
+    for (int y = 2; y < 7; ++y) {
+      for (int z = 2; z < 7; ++z) source.emplace_back(x + 0.5, y + 0.5, z + 0.5);
+    }
+  }
+  return source;
+}
+
 // A sequence of poses: a large jump, a slow drift (each step a fraction of the neighbour
 // spacing), a jump back, and a repeated pose.
 std::vector<Eigen::Isometry3d> pose_sequence(Rng& rng) {
@@ -249,19 +273,8 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
   // query of k + 1 sees the tie and is repeated for capacity, so its row is the one a fresh
   // cache (a query of capacity) gives, index for index.
   Rng rng(59);
-  PointCloud target;
-  for (int x = 0; x < 10; ++x) {
-    for (int y = 0; y < 10; ++y) {
-      for (int z = 0; z < 10; ++z) target.emplace_back(x, y, z);
-    }
-  }
-  std::shuffle(target.begin(), target.end(), rng);  // index order unlike the tree's order
-  PointCloud source;
-  for (int x = 2; x < 7; ++x) {
-    for (int y = 2; y < 7; ++y) {
-      for (int z = 2; z < 7; ++z) source.emplace_back(x + 0.5, y + 0.5, z + 0.5);
-    }
-  }
+  const PointCloud target = shuffled_lattice(rng);
+  const PointCloud source = cell_centres();
   KdTree tree;
   REQUIRE(tree.build(target).ok());
   const int k = 10, capacity = 16;
@@ -295,6 +308,53 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
     CHECK(t_warm.index == t_fresh.index);
     CHECK(t_warm.dist_sq == t_fresh.dist_sq);
   }
+}
+
+TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidates, ties included",
+          "[association]") {
+  // From cell centres (capacity 17: 8 points at sqrt(0.75), then 9 of 24 at sqrt(2.75), so B_j =
+  // sqrt(2.75) ~ 1.66), every point moves 0.5 onto a face centre: not a fast mover (0.5 <
+  // kFastMove x B_j), and its list fails (its 13th is at least sqrt(1.5) away, and sqrt(1.5) +
+  // 0.5 > B_j), so it is re-queried for capacity, bounded by its list's distances. At the face
+  // centre 4 + 8 points lie at squared distances 0.5 and 1.5 and 8 tie at 2.5: the query of 17
+  // keeps 5 of the 8 in the tree's visiting order, and the row's 13th is one of them. The seeded
+  // query must keep the same 5 as an unbounded one, so the list (indices, count, bound) and the
+  // row equal a direct query's and a fresh cache's.
+  Rng rng(61);
+  const PointCloud target = shuffled_lattice(rng);
+  const PointCloud source = cell_centres();
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  const int k = 13, capacity = 17;
+  const double radius = 2.5;
+  const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
+  NeighbourCache warm, fresh;
+  warm.resize(source.size(), capacity);
+  fresh.resize(source.size(), capacity);
+  AssociationTable t_warm, t_fresh;
+  t_warm.resize(source.size(), k);
+  t_fresh.resize(source.size(), k);
+  ppcr::detail::associate_cached(tree, target, source, at(0.0), radius, 1, &warm, &t_warm);
+  REQUIRE(0.5 <= NeighbourCache::kFastMove * std::sqrt(2.75));
+  ppcr::detail::associate_cached(tree, target, source, at(0.5), radius, 1, &warm, &t_warm);
+  ppcr::detail::associate_cached(tree, target, source, at(0.5), radius, 1, &fresh, &t_fresh);
+  REQUIRE(warm.last_queries == source.size());
+  REQUIRE(table_mismatch(t_warm, source, target, at(0.5), radius * radius) == "");
+  CHECK(t_warm.index == t_fresh.index);
+  CHECK(t_warm.dist_sq == t_fresh.dist_sq);
+  std::uint32_t idx[NeighbourCache::kMaxCapacity];
+  double d2[NeighbourCache::kMaxCapacity];
+  int differ = 0;
+  for (std::size_t j = 0; j < source.size(); ++j) {
+    const Eigen::Vector3d p = at(0.5) * source[j];
+    const int found = tree.radius_knn(p, capacity, candidate_radius * candidate_radius, idx, d2);
+    REQUIRE(found == capacity);
+    REQUIRE(d2[capacity - 1] == 2.5);  // the tie is cut by the query
+    const std::uint32_t* listed = &warm.index[j * capacity];
+    differ += warm.count[j] != found || warm.bound[j] != std::sqrt(d2[capacity - 1]) ||
+              !std::equal(idx, idx + found, listed);
+  }
+  CHECK(differ == 0);
 }
 
 TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried rows, bit for bit",

@@ -32,8 +32,9 @@ class PpcrMethod : public Method {
         registration_ = std::make_unique<ppcr::Registration>(options);
       }
       const ppcr::Status s = registration_->set_target(target);
-      if (!s.ok()) {
+      if (!s.ok()) {  // as ppcr::align reports a refused target
         out.message = s.message();
+        out.stop_reason = ppcr::to_string(ppcr::StopReason::kInvalidInput);
         return out;
       }
       r = registration_->align(source, Eigen::Isometry3d::Identity(), T_gt);
