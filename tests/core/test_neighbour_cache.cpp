@@ -25,29 +25,29 @@ using ppcr::detail::NeighbourCache;
 
 namespace {
 
-// The points of a 10 x 10 x 10 integer lattice, in shuffled order (index order unlike the k-d
-// tree's order): many exactly tied distances (exact in double).
-PointCloud shuffled_lattice(Rng& rng) {
-  PointCloud target;
-  for (int x = 0; x < 10; ++x) {
-    for (int y = 0; y < 10; ++y) {
-      for (int z = 0; z < 10; ++z) target.emplace_back(x, y, z);
+// A 10 x 10 x 10 integer lattice in shuffled order (index order unlike the k-d tree's order:
+// many exactly tied distances, exact in double), its tree, and a source at the centres of its
+// inner cells (2.5 .. 6.5 on each axis, far from its edges).
+struct Lattice {
+  PointCloud target, source;
+  KdTree tree;
+  explicit Lattice(std::uint32_t seed) {
+    Rng rng(seed);
+    for (int x = 0; x < 10; ++x) {
+      for (int y = 0; y < 10; ++y) {
+        for (int z = 0; z < 10; ++z) target.emplace_back(x, y, z);
+      }
     }
-  }
-  std::shuffle(target.begin(), target.end(), rng);
-  return target;
-}
-
-// The centres of the lattice's inner cells (2.5 .. 6.5 on each axis), far from its edges.
-PointCloud cell_centres() {
-  PointCloud source;
-  for (int x = 2; x < 7; ++x) {
-    for (int y = 2; y < 7; ++y) {
-      for (int z = 2; z < 7; ++z) source.emplace_back(x + 0.5, y + 0.5, z + 0.5);
+    std::shuffle(target.begin(), target.end(), rng);
+    for (int x = 2; x < 7; ++x) {
+      for (int y = 2; y < 7; ++y) {
+        for (int z = 2; z < 7; ++z) source.emplace_back(x + 0.5, y + 0.5, z + 0.5);
+      }
     }
+    built = tree.build(target).ok();
   }
-  return source;
-}
+  bool built = false;
+};
 
 // A sequence of poses: a large jump, a slow drift (each step a fraction of the neighbour
 // spacing), a jump back, and a repeated pose.
@@ -272,11 +272,11 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
   // 8th to 19th nearest tie. The tree keeps tied points in its visiting order; a fast mover's
   // query of k + 1 sees the tie and is repeated for capacity, so its row is the one a fresh
   // cache (a query of capacity) gives, index for index.
-  Rng rng(59);
-  const PointCloud target = shuffled_lattice(rng);
-  const PointCloud source = cell_centres();
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
+  const Lattice lattice(59);
+  REQUIRE(lattice.built);
+  const PointCloud& target = lattice.target;
+  const PointCloud& source = lattice.source;
+  const KdTree& tree = lattice.tree;
   const int k = 10, capacity = 16;
   const double radius = 2.5;
   NeighbourCache warm;
@@ -320,11 +320,11 @@ TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidat
   // keeps 5 of the 8 in the tree's visiting order, and the row's 13th is one of them. The seeded
   // query must keep the same 5 as an unbounded one, so the list (indices, count, bound) and the
   // row equal a direct query's and a fresh cache's.
-  Rng rng(61);
-  const PointCloud target = shuffled_lattice(rng);
-  const PointCloud source = cell_centres();
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
+  const Lattice lattice(61);
+  REQUIRE(lattice.built);
+  const PointCloud& target = lattice.target;
+  const PointCloud& source = lattice.source;
+  const KdTree& tree = lattice.tree;
   const int k = 13, capacity = 17;
   const double radius = 2.5;
   const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
