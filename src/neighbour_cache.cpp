@@ -123,6 +123,14 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     double* out_d = &table->dist_sq[slot];
     std::uint32_t* cand = &cache->index[cslot];
     const Eigen::Vector3d p = R * source[j] + t;
+    // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
+    // margin subtracted from rho_j when it was stored covers the rounding of either side).
+    if (cache->bound[j] >= 0.0 &&
+        (p - cache->ranked_at[j]).squaredNorm() < cache->set_radius_sq[j]) {
+      resort(target, p, table->count[j], out_idx, out_d);
+      cache->path[j] = NeighbourCache::kResorted;
+      return;
+    }
     // What both certificates give up against the rounding of the distances at p: 1e-9 of the
     // radius, and 1e-12 of |p| for coordinates far larger than the radius, bounded by the L1 norm
     // (no square root). (Without it, an exact tie such as sqrt(18) + sqrt(2) = sqrt(32) can
@@ -160,13 +168,6 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // a new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
     bool fast = false;
     if (cache->bound[j] >= 0.0) {
-      // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared;
-      // the margin above covers the rounding of either side).
-      if ((p - cache->ranked_at[j]).squaredNorm() < cache->set_radius_sq[j]) {
-        resort(target, p, table->count[j], out_idx, out_d);
-        cache->path[j] = NeighbourCache::kResorted;
-        return;
-      }
       const double delta = (p - cache->query[j]).norm();
       fast = delta > NeighbourCache::kFastMove * cache->bound[j];
       if (certified_rerank(delta)) return;

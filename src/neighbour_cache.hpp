@@ -23,10 +23,10 @@
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
 // none can enter the radius; so the table's set is unchanged. Its order and distances are
 // refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
-// Both certificates give up 1e-9 r + 1e-12 |p|_1 against rounding (D_j < B_j - delta_j - that,
-// rho_j - that; the L1 norm bounds |p| without a square root). The table row must be the one
-// this cache's last call wrote: a call with another table, k or radius invalidates the cache
-// first; no other code may write the table between two calls.
+// Both certificates give up 1e-9 r + 1e-12 |p|_1 against rounding (D_j < B_j - delta_j - that at
+// p; rho_j - that at p', when rho_j is stored; the L1 norm bounds |p| without a square root). The
+// table row must be the one this cache's last call wrote: a call with another table, k or radius
+// invalidates the cache first; no other code may write the table between two calls.
 //
 // Fast movers. A list holds while its point moves less than about B_j - D_j, a small part of B_j
 // (on a surface, with K = k + 4 and k = 10: B_j / D_j ~ sqrt(14 / 10), so ~0.15 B_j), and early
@@ -43,10 +43,10 @@
 //
 // Seeded queries. A re-queried point's list (of at least as many candidates as the query wants)
 // holds real target points, so the largest of their squared distances at p, b, bounds the
-// distance of the query's last neighbour. The query is bounded by b (plus 1e-9 b against the
-// rounding of the tree's cell bounds) instead of r_c^2: it prunes from its first leaf and finds
-// the same neighbours. Should it find fewer (rounding beyond that slack), it is repeated without
-// the bound.
+// distance of the query's last neighbour. The query is bounded by min(b (1 + 1e-9), r_c^2) (the
+// 1e-9 against the rounding of the tree's cell bounds) instead of r_c^2: it prunes from its first
+// leaf and finds the same neighbours. Should it find fewer (rounding beyond that slack), it is
+// repeated without the bound.
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -90,9 +90,9 @@ struct NeighbourCache {
   static constexpr double kRadiusMargin = 1.25;
   /// A point re-queried after moving more than kFastMove * B_j since its last query is queried
   /// for k + 1 candidates, not capacity (see the comment at the top). 0.5 was the best of 0.3-1.0
-  /// on the bunny set with 99d96a2's rule (k candidates); with k + 1 and seeded queries, neither
-  /// 0.4 nor 0.7 was faster on both benchmark sets (docs/PERFORMANCE.md, updates 99d96a2 and
-  /// cc74b40).
+  /// on the bunny set with 99d96a2's rule (k candidates); with k + 1 and seeded queries, two runs
+  /// against 0.4 and 0.7 were inconclusive (0.4 ahead on lidar in both, behind on the bunny in
+  /// one), so 0.5 stays (docs/PERFORMANCE.md, updates 99d96a2 and cc74b40).
   static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it.

@@ -314,12 +314,12 @@ TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidat
           "[association]") {
   // From cell centres (capacity 17: 8 points at sqrt(0.75), then 9 of 24 at sqrt(2.75), so B_j =
   // sqrt(2.75) ~ 1.66), every point moves 0.5 onto a face centre: not a fast mover (0.5 <
-  // kFastMove x B_j), and its list fails (its 13th is at least sqrt(1.5) away, and sqrt(1.5) +
-  // 0.5 > B_j), so it is re-queried for capacity, bounded by its list's distances. At the face
-  // centre 4 + 8 points lie at squared distances 0.5 and 1.5 and 8 tie at 2.5: the query of 17
-  // keeps 5 of the 8 in the tree's visiting order, and the row's 13th is one of them. The seeded
-  // query must keep the same 5 as an unbounded one, so the list (indices, count, bound) and the
-  // row equal a direct query's and a fresh cache's.
+  // kFastMove x B_j), and its list fails (only 12 target points lie within sqrt(1.5), so its
+  // 13th is farther, and sqrt(1.5) + 0.5 > B_j), so it is re-queried for capacity, bounded by its
+  // list's distances. At the face centre 4 + 8 points lie at squared distances 0.5 and 1.5 and 8
+  // tie at 2.5: the query of 17 keeps 5 of the 8 in the tree's visiting order, and the row's 13th
+  // is one of them. The seeded query must keep the same 5 as an unbounded one, so the list
+  // (indices, count, bound) and the row equal a direct query's and a fresh cache's.
   const Lattice lattice(61);
   REQUIRE(lattice.built);
   const PointCloud& target = lattice.target;
