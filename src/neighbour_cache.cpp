@@ -85,6 +85,7 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   query.resize(source_points);
   bound.resize(source_points);
   path.resize(source_points);
+  seed.resize(source_points);
   ranked_at.resize(source_points);
   set_radius_sq.resize(source_points);
   invalidate();
@@ -95,6 +96,8 @@ void NeighbourCache::invalidate() {
   for (double& rho_sq : set_radius_sq) rho_sq = -1.0;
   table = nullptr;
   last_queries = 0;
+  last_seeded = 0;
+  last_seed_repeats = 0;
   last_resorted = 0;
 }
 
@@ -178,14 +181,9 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
     // The k + 1-th decides ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the
     // k-th, the point is queried for capacity after all.
-    // A point with a list of at least `want` candidates seeds its query: they are target points,
-    // so the largest of their squared distances at p bounds the want-th nearest's, b. Bounded by
-    // b (1e-9 larger, against the rounding of the tree's cell bounds) instead of r_c^2, the
-    // search prunes from its first leaf and finds the same want nearest, in the same order: the
-    // tree visits cells in the same order; until it holds want points it also skips the cells
-    // beyond b, which hold none of them, and from then on it prunes by its want-th as the
-    // unbounded search does. Should it find fewer than want within b (rounding beyond that
-    // slack), the point is queried again without the seed.
+    // A point with a list of at least `want` candidates seeds its query (neighbour_cache.hpp,
+    // "Seeded queries", for why the seeded search finds the same want nearest in the same order).
+    std::uint8_t seed = NeighbourCache::kUnseeded;
     auto query = [&](int want) {
       double bound_sq = candidate_radius_sq;
       const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;
@@ -196,7 +194,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
       }
       const int found = target_tree.radius_knn(p, want, bound_sq, cand, cand_d);
-      if (found == want || bound_sq == candidate_radius_sq) return found;
+      if (bound_sq == candidate_radius_sq) return found;
+      seed = NeighbourCache::kSeeded;
+      if (found == want) return found;
+      seed = NeighbourCache::kSeedRepeated;
       return target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
     };
     int want = fast ? std::min(k + 1, capacity) : capacity;
@@ -209,6 +210,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     cache->bound[j] = found == want ? std::sqrt(cand_d[want - 1]) : candidate_radius;
     cache->query[j] = p;
     cache->path[j] = NeighbourCache::kQueried;
+    cache->seed[j] = seed;
     const int n = rerank(cand, cand_d, found, k, radius_sq, out_idx, out_d, &left_out_sq);
     ranked(n, n > 0 ? std::sqrt(out_d[n - 1]) : 0.0,
            std::min(std::sqrt(left_out_sq), cache->bound[j]));
@@ -217,12 +219,17 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   cache->table_k = k;
   cache->table_radius = radius;
   table->recount();
-  std::size_t queries = 0, resorted = 0;
-  for (std::uint8_t path : cache->path) {
-    queries += path == NeighbourCache::kQueried;
-    resorted += path == NeighbourCache::kResorted;
+  std::size_t queries = 0, seeded = 0, repeats = 0, resorted = 0;
+  for (std::size_t j = 0; j < cache->path.size(); ++j) {
+    const bool queried = cache->path[j] == NeighbourCache::kQueried;
+    queries += queried;
+    seeded += queried && cache->seed[j] != NeighbourCache::kUnseeded;
+    repeats += queried && cache->seed[j] == NeighbourCache::kSeedRepeated;
+    resorted += cache->path[j] == NeighbourCache::kResorted;
   }
   cache->last_queries = queries;
+  cache->last_seeded = seeded;
+  cache->last_seed_repeats = repeats;
   cache->last_resorted = resorted;
 }
 

@@ -45,8 +45,11 @@
 // holds real target points, so the largest of their squared distances at p, b, bounds the
 // distance of the query's last neighbour. The query is bounded by min(b (1 + 1e-9), r_c^2) (the
 // 1e-9 against the rounding of the tree's cell bounds) instead of r_c^2: it prunes from its first
-// leaf and finds the same neighbours. Should it find fewer (rounding beyond that slack), it is
-// repeated without the bound.
+// leaf and finds the same neighbours in the same order. The tree visits its cells in the same
+// order; until it holds `want` points it also skips the cells beyond the bound, which hold none of
+// them, and from then on it prunes by its want-th as the unbounded search does. Should it find
+// fewer than it wants (rounding beyond that slack), it is repeated without the bound. The cache
+// counts both (last_seeded, last_seed_repeats).
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -77,8 +80,14 @@ struct NeighbourCache {
   // The path each point took in the last associate_cached.
   enum Path : std::uint8_t { kReranked = 0, kQueried = 1, kResorted = 2 };
   std::vector<std::uint8_t> path;
-  std::size_t last_queries = 0;   // k-d tree queries made by the last associate_cached
-  std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
+  // How a queried point's query was bounded in the last associate_cached ("Seeded queries"):
+  // by r_c^2 only, by its list's seed, or by the seed and then again without it.
+  enum Seed : std::uint8_t { kUnseeded = 0, kSeeded = 1, kSeedRepeated = 2 };
+  std::vector<std::uint8_t> seed;     // meaningful where path is kQueried
+  std::size_t last_queries = 0;       // points the last associate_cached queried the k-d tree for
+  std::size_t last_seeded = 0;        // of those, queries bounded by a seed (repeats included)
+  std::size_t last_seed_repeats = 0;  // seeded queries repeated without the seed
+  std::size_t last_resorted = 0;      // rows it refreshed by the set certificate
   // What the last call was for: another table, k or radius invalidates the cache first.
   const AssociationTable* table = nullptr;
   int table_k = 0;

@@ -46,6 +46,11 @@ struct Lattice {
     }
     built = tree.build(target).ok();
   }
+  /// associate_cached on this lattice at one thread.
+  void associate(const Eigen::Isometry3d& T, double radius, NeighbourCache* cache,
+                 AssociationTable* table) const {
+    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, cache, table);
+  }
   bool built = false;
 };
 
@@ -259,6 +264,8 @@ TEST_CASE("associate_cached: a fast mover is queried for k + 1 candidates, then 
       CHECK(cache.last_queries < source.size());
       CHECK(queried_full == cache.last_queries);
       CHECK(kept == source.size() - cache.last_queries);
+      // A list of k + 1 is too short to seed a query of capacity.
+      CHECK(cache.last_seeded == 0u);
     } else {  // moved 1e-4: the lists answer almost every row
       CHECK(cache.last_queries < source.size() / 10);
     }
@@ -274,16 +281,13 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
   // cache (a query of capacity) gives, index for index.
   const Lattice lattice(59);
   REQUIRE(lattice.built);
-  const PointCloud& target = lattice.target;
-  const PointCloud& source = lattice.source;
-  const KdTree& tree = lattice.tree;
   const int k = 10, capacity = 16;
   const double radius = 2.5;
   NeighbourCache warm;
-  warm.resize(source.size(), capacity);
+  warm.resize(lattice.source.size(), capacity);
   AssociationTable t_warm, t_fresh;
-  t_warm.resize(source.size(), k);
-  t_fresh.resize(source.size(), k);
+  t_warm.resize(lattice.source.size(), k);
+  t_fresh.resize(lattice.source.size(), k);
   // At cell centres first (B_j = sqrt(2.75) ~ 1.66: the 16th of 8 + 24 points at sqrt(0.75)
   // and sqrt(2.75)), then onto lattice points, a move of sqrt(0.75) ~ 0.87 > kFastMove x B_j:
   // every point is a fast mover.
@@ -292,14 +296,17 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
   for (const Eigen::Vector3d& shift : {Eigen::Vector3d(0, 0, 0), onto_lattice}) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = shift;
-    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, &warm, &t_warm);
+    lattice.associate(T, radius, &warm, &t_warm);
     NeighbourCache fresh;
-    fresh.resize(source.size(), capacity);
-    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, &fresh, &t_fresh);
+    fresh.resize(lattice.source.size(), capacity);
+    lattice.associate(T, radius, &fresh, &t_fresh);
     INFO("shift " << shift.transpose());
-    REQUIRE(table_mismatch(t_warm, source, target, T, radius * radius) == "");
-    CHECK(warm.last_queries == source.size());
-    // After the shift every point tied at its k-th, so every query was repeated for capacity.
+    REQUIRE(table_mismatch(t_warm, lattice.source, lattice.target, T, radius * radius) == "");
+    CHECK(warm.last_queries == lattice.source.size());
+    // After the shift every point tied at its k-th, so every query was repeated for capacity
+    // (without a seed); its first query, of k + 1, was seeded by the list of capacity.
+    CHECK(warm.last_seeded == (shift == Eigen::Vector3d::Zero() ? 0u : lattice.source.size()));
+    CHECK(warm.last_seed_repeats == 0u);
     if (shift != Eigen::Vector3d::Zero()) {
       CHECK(std::all_of(warm.count.begin(), warm.count.end(),
                         [&](std::uint16_t c) { return c == capacity; }));
@@ -322,32 +329,33 @@ TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidat
   // (indices, count, bound) and the row equal a direct query's and a fresh cache's.
   const Lattice lattice(61);
   REQUIRE(lattice.built);
-  const PointCloud& target = lattice.target;
-  const PointCloud& source = lattice.source;
-  const KdTree& tree = lattice.tree;
   const int k = 13, capacity = 17;
   const double radius = 2.5;
   const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
   NeighbourCache warm, fresh;
-  warm.resize(source.size(), capacity);
-  fresh.resize(source.size(), capacity);
+  warm.resize(lattice.source.size(), capacity);
+  fresh.resize(lattice.source.size(), capacity);
   AssociationTable t_warm, t_fresh;
-  t_warm.resize(source.size(), k);
-  t_fresh.resize(source.size(), k);
-  ppcr::detail::associate_cached(tree, target, source, at(0.0), radius, 1, &warm, &t_warm);
+  t_warm.resize(lattice.source.size(), k);
+  t_fresh.resize(lattice.source.size(), k);
+  lattice.associate(at(0.0), radius, &warm, &t_warm);
   REQUIRE(0.5 <= NeighbourCache::kFastMove * std::sqrt(2.75));
-  ppcr::detail::associate_cached(tree, target, source, at(0.5), radius, 1, &warm, &t_warm);
-  ppcr::detail::associate_cached(tree, target, source, at(0.5), radius, 1, &fresh, &t_fresh);
-  REQUIRE(warm.last_queries == source.size());
-  REQUIRE(table_mismatch(t_warm, source, target, at(0.5), radius * radius) == "");
+  lattice.associate(at(0.5), radius, &warm, &t_warm);
+  lattice.associate(at(0.5), radius, &fresh, &t_fresh);
+  REQUIRE(warm.last_queries == lattice.source.size());
+  REQUIRE(warm.last_seeded == lattice.source.size());  // every query took the seeded path
+  CHECK(warm.last_seed_repeats == 0u);                 // and kept its seed
+  CHECK(fresh.last_seeded == 0u);                      // a fresh cache has no lists to seed
+  REQUIRE(table_mismatch(t_warm, lattice.source, lattice.target, at(0.5), radius * radius) == "");
   CHECK(t_warm.index == t_fresh.index);
   CHECK(t_warm.dist_sq == t_fresh.dist_sq);
   std::uint32_t idx[NeighbourCache::kMaxCapacity];
   double d2[NeighbourCache::kMaxCapacity];
   int differ = 0;
-  for (std::size_t j = 0; j < source.size(); ++j) {
-    const Eigen::Vector3d p = at(0.5) * source[j];
-    const int found = tree.radius_knn(p, capacity, candidate_radius * candidate_radius, idx, d2);
+  for (std::size_t j = 0; j < lattice.source.size(); ++j) {
+    const Eigen::Vector3d p = at(0.5) * lattice.source[j];
+    const int found =
+        lattice.tree.radius_knn(p, capacity, candidate_radius * candidate_radius, idx, d2);
     REQUIRE(found == capacity);
     REQUIRE(d2[capacity - 1] == 2.5);  // the tie is cut by the query
     const std::uint32_t* listed = &warm.index[j * capacity];
