@@ -12,8 +12,7 @@ namespace detail {
 
 void LMSolver::resize(std::size_t source_points, int k) {
   const std::size_t slots = source_points * static_cast<std::size_t>(k);
-  w_current_.assign(slots, 0.0);
-  w_trial_.assign(slots, 0.0);
+  w_.assign(slots, 0.0);
   normal_equations_.resize(source_points);
 }
 
@@ -25,7 +24,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
                                nullptr, pb.num_threads, out, pb.plane);
   };
 
-  evaluate(*T, nullptr, w_current_.data(), &current_);
+  evaluate(*T, nullptr, w_.data(), &current_);
   summary.initial_cost = summary.final_cost = current_.cost;
   if (!std::isfinite(current_.cost) || !current_.H.allFinite() || !current_.g.allFinite()) {
     summary.termination = LMTermination::kNumericalFailure;
@@ -81,7 +80,8 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       summary.termination = LMTermination::kFunctionTolerance;
       break;
     }
-    evaluate(T_trial, w_current_.data(), w_trial_.data(), &trial_);
+    // In place: w_ becomes the trial pose's weights (normal_equations.hpp).
+    evaluate(T_trial, w_.data(), w_.data(), &trial_);
     ++summary.iterations;
 
     const double actual = current_.cost - trial_.cost_prev_weights;  // same weights
@@ -89,7 +89,6 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       // Accept: move, and take the weights refreshed at the new pose (IRLS).
       const double cost_before = current_.cost;
       *T = T_trial;
-      std::swap(w_current_, w_trial_);
       std::swap(current_, trial_);
       ++summary.successful_steps;
       const double rho = predicted > 0.0 ? actual / predicted : 0.0;
@@ -101,6 +100,8 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
         break;
       }
     } else {
+      // Reject: back to the current pose's weights, which the next trial (and weights()) needs.
+      evaluate(*T, nullptr, w_.data(), &trial_);
       ++summary.unsuccessful_steps;
       last_accepted = false;
       lambda *= lambda_growth;

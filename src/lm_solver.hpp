@@ -35,11 +35,16 @@ class LMSolver {
   /// at the pose before an unevaluated last step (lm.hpp).
   const Evaluation& last() const { return current_; }
   /// Weights of that evaluation, stride k.
-  const std::vector<double>& weights() const { return w_current_; }
+  const std::vector<double>& weights() const { return w_; }
 
  private:
   NormalEquations normal_equations_;
-  std::vector<double> w_current_, w_trial_;
+  // The weights at the current pose. A trial pass reads them (the cost under the previous
+  // weights) and overwrites them with the trial pose's, point by point; a rejected step restores
+  // them by a pass at the current pose (the E-step is a function of the pose alone, so they come
+  // back to the bit). One array instead of two: a rejected step costs a pass, and none was
+  // rejected on the benchmark sets (docs/PERFORMANCE.md).
+  std::vector<double> w_;
   Evaluation current_, trial_;
 };
 

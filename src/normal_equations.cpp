@@ -89,7 +89,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       } else {
         for (std::size_t m = 0; m < count; ++m) r[m] = (target[idx[m]] - p).squaredNorm();
       }
-      if (w_prev != nullptr) {
+      if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
         const double* wp = &w_prev[slot];
         for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
       }
