@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "ppcr/se3.hpp"
@@ -101,7 +102,9 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       }
     } else {
       // Reject: back to the current pose's weights, which the next trial (and weights()) needs.
+      // The pass repeats the one that made current_, to the bit.
       evaluate(*T, nullptr, w_.data(), &trial_);
+      assert(trial_.cost == current_.cost && trial_.H == current_.H && trial_.g == current_.g);
       ++summary.unsuccessful_steps;
       last_accepted = false;
       lambda *= lambda_growth;

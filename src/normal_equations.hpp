@@ -84,9 +84,11 @@ class NormalEquations {
   /// One pass at pose T (maps source into the target's frame): w_new[j*k+m] = E-step weights at
   /// T, and out = costs, H and g under w_new. If w_prev is not null, also the cost at T under
   /// w_prev (the LM step test compares costs under the same weights). w_prev may be w_new (in
-  /// place): each point's previous weights are read before its new ones are written. If r_sq is
-  /// not null, also the squared errors r_sq[j*k+m] = |e|^2 (the solver passes null: each point's
-  /// are kept on the stack). Arrays have the association table's stride k.
+  /// place: each point's previous weights are read before its new ones are written, so the
+  /// pointers must not be declared __restrict), but must not overlap it otherwise; r_sq must
+  /// not overlap either. If r_sq is not null, also the squared errors r_sq[j*k+m] = |e|^2 (the
+  /// solver passes null: each point's are kept on the stack). Arrays have the association
+  /// table's stride k.
   /// With plane != null the plane error model is used (r_sq then holds e^T Omega e).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,

@@ -436,6 +436,61 @@ TEST_CASE("evaluate without the r_sq array gives the same weights and sums, both
   }
 }
 
+TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every model and kernel",
+          "[normal_equations]") {
+  // The LM solver refreshes one weight array in place: every point's previous weights must be
+  // read before its new ones are written. Point model, plane model, plane model with pair
+  // normals; Student-t with e = 4 (dof 5), 3 (dof 3) and 2.65 (dof 2.3: std::pow), Gaussian; and
+  // a pose 2 away at inv_scale_sq = 1e308, where every z_k overflows (the overflow kernels).
+  const int k = 10;
+  const Problem pb = make_problem(75, 3000, k, 0.08);
+  PackedPlane packed(pb, 76, 0.05);
+  PackedPlane packed_pairs(pb, 76, 0.05);
+  const std::vector<Eigen::Vector3d> pair = random_normals(pb.source.size() * k, 77);
+  packed_pairs.model.pair_normals = &pair;
+  Rng rng(78);
+  std::vector<double> w_prev(pb.source.size() * k);
+  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
+  std::vector<WeightParams> params = weight_params();
+  params.push_back({ppcr::WeightModel::kStudentT, 2.3, 1.0 / (0.05 * 0.05)});
+  params.push_back({ppcr::WeightModel::kStudentT, 5.0, 1e308});
+  params.push_back({ppcr::WeightModel::kGaussian, 5.0, 1e308});
+  Eigen::Isometry3d T_far = pb.T;
+  T_far.pretranslate(Eigen::Vector3d(2.0, 0.0, 0.0));
+  for (const ppcr::detail::PlaneModel* model :
+       {static_cast<ppcr::detail::PlaneModel*>(nullptr), &packed.model, &packed_pairs.model}) {
+    for (const WeightParams& wp : params) {
+      const Eigen::Isometry3d& T = wp.inv_scale_sq > 1e300 ? T_far : pb.T;
+      for (int threads : {1, 2}) {
+        const Output separate = run(pb, wp, T, w_prev.data(), threads, model, false);
+        NormalEquations ne;
+        ne.resize(pb.source.size());
+        std::vector<double> w = w_prev;
+        Evaluation in_place;
+        ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr, threads,
+                    &in_place, model);
+        INFO("plane " << (model != nullptr) << " pair normals "
+                      << (model != nullptr && model->pair_normals != nullptr) << " dof " << wp.dof
+                      << " inv_scale_sq " << wp.inv_scale_sq << " threads " << threads);
+        CHECK(in_place.cost_prev_weights == separate.eval.cost_prev_weights);
+        CHECK(in_place.cost == separate.eval.cost);
+        CHECK(in_place.weight_sum == separate.eval.weight_sum);
+        CHECK(in_place.H == separate.eval.H);
+        CHECK(in_place.g == separate.eval.g);
+        // Slots the pass writes (m < count); the others keep what they held.
+        std::size_t differ = 0;
+        for (std::size_t j = 0; j < pb.source.size(); ++j) {
+          for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
+            differ += w[j * k + m] != separate.w[j * k + m];
+          }
+        }
+        CHECK(differ == 0);
+        CHECK(separate.eval.cost_prev_weights > 0.0);  // the previous weights were used
+      }
+    }
+  }
+}
+
 // ------------------------------------------------------------------------------ plane model
 
 TEST_CASE("plane model: evaluate equals the naive per-pair sums with Omega", "[normal_equations]") {
