@@ -83,11 +83,15 @@ struct NeighbourCache {
   // How a queried point's query was bounded in the last associate_cached ("Seeded queries"):
   // by r_c^2 only, by its list's seed, or by the seed and then again without it.
   enum Seed : std::uint8_t { kUnseeded = 0, kSeeded = 1, kSeedRepeated = 2 };
-  std::vector<std::uint8_t> seed;     // meaningful where path is kQueried
-  std::size_t last_queries = 0;       // points the last associate_cached queried the k-d tree for
-  std::size_t last_seeded = 0;        // of those, queries bounded by a seed (repeats included)
-  std::size_t last_seed_repeats = 0;  // seeded queries repeated without the seed
-  std::size_t last_resorted = 0;      // rows it refreshed by the set certificate
+  std::vector<std::uint8_t> seed;  // meaningful where path is kQueried
+  // Counts of points, not of tree calls: a point queried twice counts once.
+  std::size_t last_queries = 0;  // points the last associate_cached queried the k-d tree for
+  std::size_t last_seeded = 0;   // of those, points whose first query was bounded by a seed
+  // Of those, points whose seeded query found fewer than it wanted and was repeated without the
+  // seed. (A fast mover's re-query for capacity after a tie at its k-th is not this repeat,
+  // and is not counted.)
+  std::size_t last_seed_repeats = 0;
+  std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
   // What the last call was for: another table, k or radius invalidates the cache first.
   const AssociationTable* table = nullptr;
   int table_k = 0;
