@@ -41,10 +41,10 @@ class LMSolver {
   NormalEquations normal_equations_;
   // The weights at the current pose. A trial pass reads them (the cost under the previous
   // weights) and overwrites them with the trial pose's, point by point; a rejected step restores
-  // them by a pass at the current pose (within a solve the associations and the weight
-  // parameters are fixed, so the E-step is a function of the pose alone: they come back to the
-  // bit). One array instead of two: a rejected step costs a pass, and none was
-  // rejected on the benchmark sets (docs/PERFORMANCE.md).
+  // them by a pass at the current pose (within a solve the source, target, associations, error
+  // model, pair normals and weight parameters are fixed, so the E-step is a function of the pose
+  // alone: they come back to the bit). One array instead of two: a rejected step costs a pass, and
+  // none was rejected on the benchmark sets (docs/PERFORMANCE.md).
   std::vector<double> w_;
   Evaluation current_, trial_;
 };

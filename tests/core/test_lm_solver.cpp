@@ -360,7 +360,8 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
     options.function_tolerance = 0.0;
     options.gradient_tolerance = 0.0;
     options.step_tolerance = 0.0;
-    int ended_on_rejection = 0, previous_rejections = 0, last_rejections = 0;
+    int ended_on_rejection = 0, resumed_after_rejection = 0;
+    int previous_rejections = 0, previous_successes = 0, last_rejections = 0;
     for (int steps = 1; steps <= 60; ++steps) {
       options.max_iterations = steps;
       LMSolver solver;
@@ -381,11 +382,15 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
       // The solves share their first steps, so one more rejection than the solve before means
       // that this one ended on a rejection.
       ended_on_rejection += s.unsuccessful_steps > previous_rejections;
+      // This one took a step after an earlier rejection: the restored weights were used.
+      resumed_after_rejection += previous_rejections > 0 && s.successful_steps > previous_successes;
       previous_rejections = s.unsuccessful_steps;
+      previous_successes = s.successful_steps;
       last_rejections = s.unsuccessful_steps;
     }
     INFO("plane " << (model != nullptr));
-    CHECK(ended_on_rejection >= 3);
+    CHECK(ended_on_rejection == last_rejections);  // one more step per solve
     CHECK(last_rejections >= 5);
+    CHECK(resumed_after_rejection >= 3);
   }
 }

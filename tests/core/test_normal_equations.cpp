@@ -441,7 +441,8 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
   // The LM solver refreshes one weight array in place: every point's previous weights must be
   // read before its new ones are written. Point model, plane model, plane model with pair
   // normals; Student-t with e = 4 (dof 5), 3 (dof 3) and 2.65 (dof 2.3: std::pow), Gaussian; and
-  // a pose 2 away at inv_scale_sq = 1e308, where every z_k overflows (the overflow kernels).
+  // a pose 10 away at inv_scale_sq = 1e308, where every z_k overflows (the overflow kernels:
+  // r >= 0.05 x 9.9^2 even along a plane).
   const int k = 10;
   const Problem pb = make_problem(75, 3000, k, 0.08);
   PackedPlane packed(pb, 76, 0.05);
@@ -456,7 +457,7 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
   params.push_back({ppcr::WeightModel::kStudentT, 5.0, 1e308});
   params.push_back({ppcr::WeightModel::kGaussian, 5.0, 1e308});
   Eigen::Isometry3d T_far = pb.T;
-  T_far.pretranslate(Eigen::Vector3d(2.0, 0.0, 0.0));
+  T_far.pretranslate(Eigen::Vector3d(10.0, 0.0, 0.0));
   for (const ppcr::detail::PlaneModel* model :
        {static_cast<ppcr::detail::PlaneModel*>(nullptr), &packed.model, &packed_pairs.model}) {
     for (const WeightParams& wp : params) {
@@ -477,15 +478,28 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
         CHECK(in_place.weight_sum == separate.eval.weight_sum);
         CHECK(in_place.H == separate.eval.H);
         CHECK(in_place.g == separate.eval.g);
-        // Slots the pass writes (m < count); the others keep what they held.
-        std::size_t differ = 0;
+        // Slots the pass writes (m < count) hold the new weights; the others keep w_prev.
+        std::size_t differ = 0, kept = 0, unwritten = 0;
         for (std::size_t j = 0; j < pb.source.size(); ++j) {
-          for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
-            differ += w[j * k + m] != separate.w[j * k + m];
+          for (std::size_t m = 0; m < static_cast<std::size_t>(k); ++m) {
+            const std::size_t slot = j * k + m;
+            if (m < pb.assoc.count[j]) {
+              differ += w[slot] != separate.w[slot];
+            } else {
+              ++unwritten;
+              kept += w[slot] == w_prev[slot];
+            }
           }
         }
         CHECK(differ == 0);
-        CHECK(separate.eval.cost_prev_weights > 0.0);  // the previous weights were used
+        CHECK(kept == unwritten);
+        CHECK(unwritten > 0);
+        // The previous weights mattered: the cost under them differs from the cost under the new.
+        CHECK(separate.eval.cost_prev_weights != separate.eval.cost);
+        // Student-t's overflow kernel gives every weight 0 (c = 0); the ordinary one would not.
+        if (wp.inv_scale_sq > 1e300 && wp.model == ppcr::WeightModel::kStudentT) {
+          CHECK(separate.eval.weight_sum == 0.0);
+        }
       }
     }
   }
