@@ -3,6 +3,7 @@
 
 #include <cassert>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "parallel.hpp"
@@ -18,6 +19,42 @@ inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
   return n.squaredNorm() > 0.0 ? epsilon : 1.0;
 }
 
+// Obar_j of the plane model: symmetric, its six entries.
+struct Sym3 {
+  double xx, yy, zz, xy, yz, xz;
+};
+
+// Adds one source point's plane-model terms (header) to the block's H and g sums, with
+// J = [ [p]_x | -I ]: H_tl += [p]_x Obar [p]_x^T, H_tr += [p]_x Obar, H_br += Obar, and ebar,
+// ebar x p. Only the upper triangles of H's diagonal blocks are written (evaluate() completes H
+// by symmetry). With M = [p]_x Obar, column c of M is p x (column c of Obar), and row r of the
+// top-left block M [p]_x^T is (p x M_r)^T, M_r the r-th row of M: cross products instead of two
+// general 3x3 products.
+inline void add_plane_point(const Eigen::Vector3d& p, const Sym3& o, const Eigen::Vector3d& ebar,
+                            Matrix6d* H, Eigen::Vector3d* ebar_sum, Eigen::Vector3d* ebar_cross_p) {
+  Eigen::Matrix3d M;
+  M.col(0) = p.cross(Eigen::Vector3d(o.xx, o.xy, o.xz));
+  M.col(1) = p.cross(Eigen::Vector3d(o.xy, o.yy, o.yz));
+  M.col(2) = p.cross(Eigen::Vector3d(o.xz, o.yz, o.zz));
+  const Eigen::Vector3d row0 = p.cross(Eigen::Vector3d(M.row(0).transpose()));
+  const Eigen::Vector3d m1 = M.row(1).transpose(), m2 = M.row(2).transpose();
+  (*H)(0, 0) += row0.x();
+  (*H)(0, 1) += row0.y();
+  (*H)(0, 2) += row0.z();
+  (*H)(1, 1) += p.z() * m1.x() - p.x() * m1.z();  // (p x M_1)_y
+  (*H)(1, 2) += p.x() * m1.y() - p.y() * m1.x();  // (p x M_1)_z
+  (*H)(2, 2) += p.x() * m2.y() - p.y() * m2.x();  // (p x M_2)_z
+  H->topRightCorner<3, 3>() += M;
+  (*H)(3, 3) += o.xx;
+  (*H)(3, 4) += o.xy;
+  (*H)(3, 5) += o.xz;
+  (*H)(4, 4) += o.yy;
+  (*H)(4, 5) += o.yz;
+  (*H)(5, 5) += o.zz;
+  *ebar_sum += ebar;
+  *ebar_cross_p += ebar.cross(p);
+}
+
 }  // namespace
 
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
@@ -25,9 +62,20 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
   out->resize(target.size());
   for (std::size_t i = 0; i < target.size(); ++i) {
     PlanePoint& q = (*out)[i];
+    const Eigen::Vector3d& n = normals[i];
     q.y = target[i];
-    q.n = normals[i];
-    q.a = omega_isotropic(normals[i], epsilon);
+    q.n = n;
+    q.a = omega_isotropic(n, epsilon);
+    const Eigen::Vector3d b = q.a * q.y + n * n.dot(q.y);  // Omega y
+    q.omega_xx_yy[0] = q.a + n.x() * n.x();
+    q.omega_xx_yy[1] = q.a + n.y() * n.y();
+    q.omega_xy_yz[0] = n.x() * n.y();
+    q.omega_xy_yz[1] = n.y() * n.z();
+    q.omega_xz_zz[0] = n.x() * n.z();
+    q.omega_xz_zz[1] = q.a + n.z() * n.z();
+    q.b_xy[0] = b.x();
+    q.b_xy[1] = b.y();
+    q.b_z = b.z();
   }
 }
 
@@ -73,38 +121,74 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       const Eigen::Vector3d p = R * source[j] + t;
       // Squared errors of the point's pairs (Mahalanobis for the plane model), and the cost
       // under the previous weights.
-      if constexpr (kPlane) {
-        for (std::size_t m = 0; m < count; ++m) {
+      // r_min: their smallest, as smallest() (weight_kernel.hpp) takes it.
+      double r_min = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t m = 0; m < count; ++m) {
+        double rm;
+        if constexpr (kPlane) {
           const PlanePoint& q = points[idx[m]];
           const Eigen::Vector3d e = q.y - p;
           if constexpr (kPairNormals) {
             const Eigen::Vector3d& nk = pair_normals[slot + m];
             const double ne = nk.dot(e);
-            r[m] = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
+            rm = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
           } else {
             const double ne = q.n.dot(e);
-            r[m] = q.a * e.squaredNorm() + ne * ne;
+            rm = q.a * e.squaredNorm() + ne * ne;
           }
+        } else {
+          rm = (target[idx[m]] - p).squaredNorm();
         }
-      } else {
-        for (std::size_t m = 0; m < count; ++m) r[m] = (target[idx[m]] - p).squaredNorm();
+        r[m] = rm;
+        r_min = m == 0 || rm < r_min ? rm : r_min;
       }
       if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
         const double* wp = &w_prev[slot];
         for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
       }
       // E-step at this pose (eq. 2-4): w = c * u.
-      const PointWeights pw = e_step(r, count, w);
-      if constexpr (kPlane) {
+      const PointWeights pw = e_step(r, r_min, count, w);
+      if constexpr (kPlane && !kPairNormals) {
+        // O = sum_k u_k Omega_k (symmetric: 6 sums), B = sum_k u_k b_k, U = sum_k u_k, in pairs
+        // of lanes (Eigen::Array2d: one SSE2 / NEON operation for two); then Obar = c O and
+        // ebar = c B - Obar p (PlanePoint).
+        Eigen::Array2d o_xx_yy = Eigen::Array2d::Zero();
+        Eigen::Array2d o_xy_yz = Eigen::Array2d::Zero();
+        Eigen::Array2d o_xz_zz = Eigen::Array2d::Zero();
+        Eigen::Array2d b_xy = Eigen::Array2d::Zero();
+        double b_z = 0.0, U = 0.0, ur = 0.0;
+        for (std::size_t m = 0; m < count; ++m) {
+          const double u = w[m];
+          const PlanePoint& q = points[idx[m]];
+          const Eigen::Array2d uu = Eigen::Array2d::Constant(u);
+          o_xx_yy += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xx_yy);
+          o_xy_yz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xy_yz);
+          o_xz_zz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xz_zz);
+          b_xy += uu * Eigen::Map<const Eigen::Array2d>(q.b_xy);
+          b_z += u * q.b_z;
+          U += u;
+          ur += u * r[m];
+          w[m] *= pw.c;
+        }
+        const double c = pw.c;
+        const Sym3 Obar{c * o_xx_yy[0], c * o_xx_yy[1], c * o_xz_zz[1],
+                        c * o_xy_yz[0], c * o_xy_yz[1], c * o_xz_zz[0]};
+        // ebar = c B - Obar p
+        const Eigen::Vector3d ebar(
+            c * b_xy[0] - (Obar.xx * p.x() + Obar.xy * p.y() + Obar.xz * p.z()),
+            c * b_xy[1] - (Obar.xy * p.x() + Obar.yy * p.y() + Obar.yz * p.z()),
+            c * b_z - (Obar.xz * p.x() + Obar.yz * p.y() + Obar.zz * p.z()));
+        add_plane_point(p, Obar, ebar, &s.H, &s.ebar, &s.ebar_cross_p);
+        s.cost += pw.c * ur;
+        s.S0 += pw.c * U;
+      } else if constexpr (kPlane) {
+        // Pair normals: a normal per slot, not per target point, so no moments; Omega_kj is
+        // formed from the pair's normal n_k here.
         // Obar = c (A I + N), N = sum_k u_k n_k n_k^T (symmetric: 6 sums),
         // ebar = c sum_k u_k (a_k e_k + n_k (n_k . e_k)).
         // The sums are kept in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for
         // two). Each lane does one sum's scalar operations in the scalar order (n . e as
-        // (x + y) + z), so every sum is the same to the bit as when written one by one: the
-        // benchmark sets' per-iteration traces were identical before and after this form. (On
-        // x86-64 as built by default, without FMA; where the compiler contracts a * b + c into
-        // fused multiply-adds, e.g. AArch64 or -march=native, it may fuse either form
-        // differently.)
+        // (x + y) + z), so every sum is the same to the bit as when written one by one.
         Eigen::Array2d AU = Eigen::Array2d::Zero();       // (A, U): sum u a, sum u
         Eigen::Array2d n00_n11 = Eigen::Array2d::Zero();  // (N_00, N_11)
         Eigen::Array2d n01_n12 = Eigen::Array2d::Zero();  // (N_01, N_12)
@@ -115,8 +199,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         for (std::size_t m = 0; m < count; ++m) {
           const double u = w[m];
           const PlanePoint& q = points[idx[m]];
-          const Eigen::Vector3d& nk = kPairNormals ? pair_normals[slot + m] : q.n;
-          const double ak = kPairNormals ? omega_isotropic(nk, epsilon) : q.a;
+          const Eigen::Vector3d& nk = pair_normals[slot + m];
+          const double ak = omega_isotropic(nk, epsilon);
           const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.data());
           const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.data() + 1);
           const double nz = nk.z();
@@ -139,17 +223,9 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         const double A = AU[0], U = AU[1];
         const double n00 = n00_n11[0], n11 = n00_n11[1], n01 = n01_n12[0], n12 = n01_n12[1];
         const double n02 = n02_n22[0], n22 = n02_n22[1], bx = bxy[0], by = bxy[1];
-        Eigen::Matrix3d Obar;
-        Obar << n00 + A, n01, n02, n01, n11 + A, n12, n02, n12, n22 + A;
-        Obar *= pw.c;
-        const Eigen::Vector3d ebar = pw.c * Eigen::Vector3d(bx, by, bz);
-        const Eigen::Matrix3d P = se3::skew(p);
-        const Eigen::Matrix3d PO = P * Obar;  // [p]_x Obar
-        s.H.topLeftCorner<3, 3>().noalias() -= PO * P;
-        s.H.topRightCorner<3, 3>() += PO;
-        s.H.bottomRightCorner<3, 3>() += Obar;
-        s.ebar += ebar;
-        s.ebar_cross_p += ebar.cross(p);
+        const double c = pw.c;
+        const Sym3 Obar{c * (n00 + A), c * (n11 + A), c * (n22 + A), c * n01, c * n12, c * n02};
+        add_plane_point(p, Obar, c * Eigen::Vector3d(bx, by, bz), &s.H, &s.ebar, &s.ebar_cross_p);
         s.cost += pw.c * ur;
         s.S0 += pw.c * U;
       } else {
@@ -226,9 +302,8 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   out->cost = 0.5 * cost;
   out->cost_prev_weights = 0.5 * cost_prev;
   if (use_plane) {
-    // Only the top-right block was accumulated off the diagonal: complete by symmetry.
-    H.bottomLeftCorner<3, 3>() = H.topRightCorner<3, 3>().transpose();
-    out->H = H;
+    // Only the upper triangle was accumulated (add_plane_point): complete by symmetry.
+    out->H = H.selfadjointView<Eigen::Upper>();
   } else {
     out->H.topLeftCorner<3, 3>() = S2.trace() * Eigen::Matrix3d::Identity() - S2;
     out->H.topRightCorner<3, 3>() = se3::skew(S1);

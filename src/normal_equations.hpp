@@ -42,16 +42,27 @@ struct WeightParams {
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
-/// One target point of the plane model in one cache line: the pass gathers a pair's position,
-/// Omega's isotropic weight and normal with one random access instead of two (target point and
-/// normal), and does not re-derive a from the normal per pair.
+/// One target point of the plane model in two cache lines, gathered by the pass with one random
+/// access per pair. The first line holds what the squared error r = a |e|^2 + (n . e)^2 needs
+/// (and the pair normals and normal_information read); the second Omega = a I + n n^T and
+/// b = Omega y, fixed per target point, so that the pass sums
+///   Obar_j / c = sum_k u_k Omega_k   and   ebar_j / c = sum_k u_k b_k - (Obar_j / c) p_j
+/// (ebar_j = sum_k w_kj Omega_k (y_k - p_j)) with one product and sum per pair of numbers instead
+/// of forming Omega_k e_kj from n_k and e_kj per pair. The cost of that form: each term of ebar_j
+/// rounds by about eps |y_k| instead of eps |e_kj|, i.e. the step by about eps |y|, the resolution
+/// of the (centred) coordinates themselves (docs/PERFORMANCE.md).
 struct alignas(64) PlanePoint {
   Eigen::Vector3d y;  // position (the target cloud's point)
   double a;           // Omega = a I + n n^T: a = epsilon with a normal, 1 without
   Eigen::Vector3d n;  // unit normal, or zero for "no normal"
+  double b_z;         // b = Omega y
+  // Omega's six entries and (b_x, b_y), in the pass's pairs of lanes.
+  double omega_xx_yy[2], omega_xy_yz[2], omega_xz_zz[2], b_xy[2];
 };
+static_assert(sizeof(PlanePoint) == 128, "PlanePoint: two cache lines");
 
-/// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match). Set-up: allocates.
+/// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match), with Omega and
+/// b = a y + n (n . y). Set-up: allocates.
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
                        double epsilon, std::vector<PlanePoint>* out);
 

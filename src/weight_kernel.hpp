@@ -78,25 +78,32 @@ struct PowerGeneral {
 };
 
 /// The E-steps of a point whose every z_k = r_k * inv_scale_sq overflows to +inf (weights.cpp;
-/// see the file comment). Write u[0..n), return c and the log-sum-exp.
+/// see the file comment), r_min the smallest r_k. Write u[0..n), return c and the log-sum-exp.
 PointWeights student_t_weights_overflow(double dof, double exponent, double inv_scale_sq,
-                                        const double* r_sq, std::size_t n, double* u);
-PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, std::size_t n,
-                                       double* u);
+                                        const double* r_sq, double r_min, std::size_t n, double* u);
+PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, double r_min,
+                                       std::size_t n, double* u);
 
-/// Student-t E-step of n >= 1 squared errors: writes u[0..n), returns c and, if kLogSumExp, the
-/// log-sum-exp (two logarithms per point; the normal-equation pass does not need it).
+/// The smallest of r_sq[0..n), n >= 1, as the kernels take it: r_sq[0], then each r_sq[k] that
+/// compares less (a NaN in r_sq[0] is kept, later ones are skipped). A caller that produces the
+/// r_sq one by one may fold the same comparison into its loop instead.
+inline double smallest(const double* r_sq, std::size_t n) {
+  double r_min = r_sq[0];
+  for (std::size_t k = 1; k < n; ++k) r_min = r_sq[k] < r_min ? r_sq[k] : r_min;
+  return r_min;
+}
+
+/// Student-t E-step of n >= 1 squared errors whose smallest is r_min (smallest()): writes
+/// u[0..n), returns c and, if kLogSumExp, the log-sum-exp (two logarithms per point; the
+/// normal-equation pass does not need it). z_min = r_min / s^2 is the smallest z_k: rounding is
+/// monotone, so scaling the smallest r_k gives the smallest of the scaled ones.
 template <bool kLogSumExp, class Power>
 inline PointWeights student_t_weights(const Power& power, double dof, double exponent,
-                                      double inv_scale_sq, const double* r_sq, std::size_t n,
-                                      double* u) {
-  double z_min = r_sq[0] * inv_scale_sq;
-  for (std::size_t k = 1; k < n; ++k) {
-    const double z = r_sq[k] * inv_scale_sq;
-    z_min = z < z_min ? z : z_min;
-  }
+                                      double inv_scale_sq, const double* r_sq, double r_min,
+                                      std::size_t n, double* u) {
+  const double z_min = r_min * inv_scale_sq;
   if (z_min > std::numeric_limits<double>::max()) {  // every z_k is +inf
-    return student_t_weights_overflow(dof, exponent, inv_scale_sq, r_sq, n, u);
+    return student_t_weights_overflow(dof, exponent, inv_scale_sq, r_sq, r_min, n, u);
   }
   const double nu_z_min = dof + z_min;
   double sum = 0.0;
@@ -112,18 +119,14 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   return out;
 }
 
-/// Gaussian E-step of n >= 1 squared errors: writes u[0..n), returns c and, if kLogSumExp, the
-/// log-sum-exp.
+/// Gaussian E-step of n >= 1 squared errors whose smallest is r_min (smallest()): writes
+/// u[0..n), returns c and, if kLogSumExp, the log-sum-exp.
 template <bool kLogSumExp>
-inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, std::size_t n,
-                                     double* u) {
-  double z_min = r_sq[0] * inv_scale_sq;
-  for (std::size_t k = 1; k < n; ++k) {
-    const double z = r_sq[k] * inv_scale_sq;
-    z_min = z < z_min ? z : z_min;
-  }
+inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, double r_min,
+                                     std::size_t n, double* u) {
+  const double z_min = r_min * inv_scale_sq;
   if (z_min > std::numeric_limits<double>::max()) {  // every z_k is +inf
-    return gaussian_weights_overflow(inv_scale_sq, r_sq, n, u);
+    return gaussian_weights_overflow(inv_scale_sq, r_sq, r_min, n, u);
   }
   double sum = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -136,33 +139,34 @@ inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, st
   return out;
 }
 
-/// Calls f(kernel) with kernel(r_sq, n, u) -> PointWeights specialised for the model and dof,
-/// so that the choice is made once per pass, not once per point. Without kLogSumExp the kernel
+/// Calls f(kernel) with kernel(r_sq, r_min, n, u) -> PointWeights specialised for the model and
+/// dof, so that the choice is made once per pass, not once per point. Without kLogSumExp the kernel
 /// leaves PointWeights::log_sum_exp at 0 (except on the overflow path).
 template <bool kLogSumExp, class F>
 void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& f) {
   if (model == WeightModel::kGaussian) {
-    f([=](const double* r_sq, std::size_t n, double* u) {
-      return gaussian_weights<kLogSumExp>(inv_scale_sq, r_sq, n, u);
+    f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
+      return gaussian_weights<kLogSumExp>(inv_scale_sq, r_sq, r_min, n, u);
     });
     return;
   }
   const double exponent = 0.5 * (dof + 3.0);
   const double eighths = 8.0 * exponent;
   if (exponent == 4.0) {
-    f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights<kLogSumExp>(PowerFour(), dof, exponent, inv_scale_sq, r_sq, n, u);
+    f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
+      return student_t_weights<kLogSumExp>(PowerFour(), dof, exponent, inv_scale_sq, r_sq, r_min, n,
+                                           u);
     });
   } else if (eighths == std::floor(eighths) && exponent <= 32.0) {
     const int whole = static_cast<int>(std::floor(exponent));
     const PowerDyadic power{whole, static_cast<int>(eighths) - 8 * whole};
-    f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+    f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
+      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, r_min, n, u);
     });
   } else {
     const PowerGeneral power{exponent};
-    f([=](const double* r_sq, std::size_t n, double* u) {
-      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, n, u);
+    f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
+      return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, r_min, n, u);
     });
   }
 }

@@ -13,9 +13,8 @@ namespace detail {
 // such neighbours are equally close and get the ratio 1 (Student-t) or u = 1 (Gaussian).
 
 PointWeights student_t_weights_overflow(double dof, double exponent, double inv_scale_sq,
-                                        const double* r_sq, std::size_t n, double* u) {
-  double r_min = r_sq[0];
-  for (std::size_t k = 1; k < n; ++k) r_min = r_sq[k] < r_min ? r_sq[k] : r_min;
+                                        const double* r_sq, double r_min, std::size_t n,
+                                        double* u) {
   // q_k = (nu + z_min) / (nu + z_k) = r_min / r_k to rounding: nu is negligible beside z.
   double sum = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -34,10 +33,8 @@ PointWeights student_t_weights_overflow(double dof, double exponent, double inv_
   return out;
 }
 
-PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, std::size_t n,
-                                       double* u) {
-  double r_min = r_sq[0];
-  for (std::size_t k = 1; k < n; ++k) r_min = r_sq[k] < r_min ? r_sq[k] : r_min;
+PointWeights gaussian_weights_overflow(double inv_scale_sq, const double* r_sq, double r_min,
+                                       std::size_t n, double* u) {
   // u_k = exp(-(z_k - z_min) / 2) with z_k - z_min = (r_k - r_min) / s^2, which may be finite.
   double sum = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -56,7 +53,7 @@ double compute_weights(WeightModel model, double dof, double inv_scale_sq, const
                        std::size_t n, double* w) {
   double log_sum_exp = 0.0;
   detail::with_weight_kernel<true>(model, dof, inv_scale_sq, [&](const auto& kernel) {
-    const detail::PointWeights pw = kernel(r_sq, n, w);
+    const detail::PointWeights pw = kernel(r_sq, detail::smallest(r_sq, n), n, w);
     for (std::size_t k = 0; k < n; ++k) w[k] *= pw.c;
     log_sum_exp = pw.log_sum_exp;
   });

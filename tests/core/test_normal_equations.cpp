@@ -670,3 +670,65 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a
       NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(), points);
   CHECK(rel_diff(got, ref) < 1e-12);
 }
+
+TEST_CASE("plane model: g from b - Omega p (PlanePoint) stays within rounding of |y|, far out",
+          "[normal_equations]") {
+  // The pass forms ebar_j = sum_k w Omega_k y_k - Obar_j p_j (PlanePoint) instead of
+  // sum_k w Omega_k (y_k - p_j): each term rounds by about eps |y_k|, not eps |e_kj|. Shifted
+  // 1e3 and 1e6 from the origin (|y| / |e| up to ~1e8), g must stay within eps times
+  // sum w |Omega y| (translation) and of sum w |Omega y| |p| (rotation) of the naive reference.
+  for (double shift : {0.0, 1e3, 1e6}) {
+    Problem pb = make_problem(72, 600, 6, 0.15);
+    const Eigen::Vector3d o = shift * Eigen::Vector3d(0.6, -0.48, 0.64);
+    for (Eigen::Vector3d& y : pb.target) y += o;
+    pb.T = Eigen::Translation3d(o) * pb.T;
+    PackedPlane packed(pb, 73, 0.05);
+    const WeightParams wp{ppcr::WeightModel::kStudentT, 5.0, 1.0 / (0.05 * 0.05)};
+    const Eigen::Isometry3d T =
+        core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
+    const Reference ref = naive_plane(pb, wp, T, nullptr, packed.normals, 0.05);
+    const Output out = run(pb, wp, T, nullptr, 1, &packed.model);
+    const std::size_t k = static_cast<std::size_t>(pb.assoc.k);
+    double scale_t = 0.0, scale_r = 0.0;
+    for (std::size_t j = 0; j < pb.source.size(); ++j) {
+      const double p_norm = (T * pb.source[j]).norm();
+      for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
+        const std::uint32_t y = pb.assoc.index[j * k + m];
+        const double term =
+            ref.w[j * k + m] * (omega(packed.normals[y], 0.05) * pb.target[y]).norm();
+        scale_t += term;
+        scale_r += term * p_norm;
+      }
+    }
+    const double eps = std::numeric_limits<double>::epsilon();
+    INFO("shift " << shift << ": g " << out.eval.g.transpose() << "\nref " << ref.g.transpose());
+    CHECK((out.eval.g.tail<3>() - ref.g.tail<3>()).cwiseAbs().maxCoeff() < eps * scale_t);
+    CHECK((out.eval.g.head<3>() - ref.g.head<3>()).cwiseAbs().maxCoeff() < eps * scale_r);
+    CHECK(rel_diff(out.eval.H, ref.H) < 1e-12);  // H has no such term
+    CHECK(std::abs(out.eval.cost - ref.cost) < 1e-12 * ref.cost);
+  }
+}
+
+TEST_CASE("pack_plane_points holds Omega = a I + n n^T and b = Omega y", "[normal_equations]") {
+  const Problem pb = make_problem(74, 50, 6, 0.15);
+  for (double epsilon : {0.05, 0.5}) {
+    const PackedPlane packed(pb, 75, epsilon);  // every fifth point without a normal
+    REQUIRE(packed.points.size() == pb.target.size());
+    for (std::size_t i = 0; i < pb.target.size(); ++i) {
+      const ppcr::detail::PlanePoint& q = packed.points[i];
+      const Eigen::Matrix3d O = omega(packed.normals[i], epsilon);
+      const Eigen::Vector3d b = O * pb.target[i];
+      CHECK(q.y == pb.target[i]);
+      CHECK(q.n == packed.normals[i]);
+      CHECK(q.a == (packed.normals[i].squaredNorm() > 0.0 ? epsilon : 1.0));
+      const Eigen::Matrix3d got =
+          (Eigen::Matrix3d() << q.omega_xx_yy[0], q.omega_xy_yz[0], q.omega_xz_zz[0],
+           q.omega_xy_yz[0], q.omega_xx_yy[1], q.omega_xy_yz[1], q.omega_xz_zz[0], q.omega_xy_yz[1],
+           q.omega_xz_zz[1])
+              .finished();
+      CHECK((got - O).cwiseAbs().maxCoeff() < 1e-15);
+      CHECK((Eigen::Vector3d(q.b_xy[0], q.b_xy[1], q.b_z) - b).cwiseAbs().maxCoeff() <
+            4e-16 * (b.norm() + pb.target[i].norm()));
+    }
+  }
+}
