@@ -25,6 +25,7 @@
 #include "ppcr/metrics.hpp"
 #include "ppcr/voxel.hpp"
 #include "scale_schedule.hpp"
+#include "spatial_order.hpp"
 #include "target_normals.hpp"
 
 namespace ppcr {
@@ -280,6 +281,7 @@ struct Registration::Impl {
   // Per-alignment buffers, kept between calls so same-size registrations reuse them.
   PointCloud source_filtered, source_centered;
   std::vector<double> scratch;
+  detail::SpatialSortScratch sort_scratch;
   detail::AssociationTable assoc;
   detail::NeighbourCache cache;  // candidate lists for exact incremental association
   detail::LMSolver lm;
@@ -307,6 +309,9 @@ Status Registration::set_target(const PointCloud& target) {
   s = center_cloud("target", target.size(), &filtered, &m.target_centered, &m.target_origin,
                    &m.target_non_finite, &scratch);
   if (!s.ok()) return s;
+  // Z-order: a source point's neighbours lie near each other in memory (spatial_order.hpp).
+  detail::SpatialSortScratch sort_scratch;
+  detail::spatial_sort(&m.target_centered, nullptr, &sort_scratch);
   s = m.tree.build(m.target_centered);
   if (!s.ok()) return s;
   if (m.options.error_model == ErrorModel::kPlane) {
@@ -357,6 +362,9 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
                             &source_origin, &result.source_non_finite, &m.scratch);
     if (!s.ok()) return refuse(s);
   }
+  // Z-order: consecutive source points share their neighbours (spatial_order.hpp); both clouds
+  // keep one order.
+  detail::spatial_sort(&m.source_centered, &m.source_filtered, &m.sort_scratch);
   const PointCloud& src = m.source_filtered;
   const std::size_t n = src.size();
   result.source_points = n;

@@ -1,0 +1,80 @@
+// spatial_order.cpp - Z-order (Morton) sort of a cloud (see the header).
+#include "spatial_order.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace ppcr {
+namespace detail {
+namespace {
+
+// The 21 low bits of v spread to every third bit (bit i to bit 3i).
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+// Applies the sorted keys' permutation in place (position i receives the point keys[i].second
+// came from), to a and, if not null, to b: one cycle at a time, marking each position done in
+// the top bit of its key's index (indices stay below 2^31).
+constexpr std::uint32_t kDone = 0x80000000u;
+
+void permute(std::vector<std::pair<std::uint64_t, std::uint32_t>>* keys, PointCloud* a,
+             PointCloud* b) {
+  for (std::size_t start = 0; start < keys->size(); ++start) {
+    if ((*keys)[start].second & kDone) continue;
+    const Eigen::Vector3d first_a = (*a)[start];
+    const Eigen::Vector3d first_b = b != nullptr ? (*b)[start] : Eigen::Vector3d::Zero();
+    std::size_t to = start;
+    for (;;) {
+      const std::size_t from = (*keys)[to].second;
+      (*keys)[to].second |= kDone;
+      if (from == start) {
+        (*a)[to] = first_a;
+        if (b != nullptr) (*b)[to] = first_b;
+        break;
+      }
+      (*a)[to] = (*a)[from];
+      if (b != nullptr) (*b)[to] = (*b)[from];
+      to = from;
+    }
+  }
+}
+
+}  // namespace
+
+void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
+  assert(b == nullptr || b->size() == a->size());
+  const std::size_t n = a->size();
+  // The order is only an optimisation: a cloud too large for the 31-bit indices keeps its own.
+  if (n < 2 || n >= kDone) return;
+  Eigen::Vector3d lo = (*a)[0], hi = (*a)[0];
+  for (const Eigen::Vector3d& p : *a) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  constexpr double kCells = static_cast<double>(1 << 21);
+  const double extent = (hi - lo).maxCoeff();
+  // Cells of one size on every axis (a flat cloud keeps its neighbours close on the flat axis).
+  const double inv_cell = extent > 0.0 ? kCells / extent : 0.0;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>>& keys = scratch->keys;
+  keys.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d q = (((*a)[i] - lo) * inv_cell).array().floor().min(kCells - 1.0);
+    const std::uint64_t code = spread_bits(static_cast<std::uint64_t>(q.x())) |
+                               spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
+                               spread_bits(static_cast<std::uint64_t>(q.z())) << 2;
+    keys[i] = {code, static_cast<std::uint32_t>(i)};
+  }
+  std::sort(keys.begin(), keys.end());  // (code, index) pairs are distinct: a total order
+  permute(&keys, a, b);
+}
+
+}  // namespace detail
+}  // namespace ppcr

@@ -1,0 +1,35 @@
+// spatial_order.hpp - clouds reordered along a Z-order (Morton) curve, so that points near in
+// space are near in memory.
+//
+// The registration visits the target through its k-d tree and gathers each association's target
+// point at random: in the order a scanner or a voxel filter leaves them, a source point's
+// neighbours lie scattered over the target array, and consecutive source points share few cache
+// lines. Along a Z-order curve of the bounding box's cells, most of a point's neighbours lie a
+// few entries apart, and consecutive source points have mostly the same neighbours
+// (docs/PERFORMANCE.md). The order is internal: no result depends on it, but for rounding
+// (sums are taken in another order).
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+namespace detail {
+
+/// The buffer of spatial_sort (16 B per point), kept between calls so that a cloud of the same
+/// size reuses it.
+struct SpatialSortScratch {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys;  // (Morton code, index)
+};
+
+/// Reorders *a (and *b, of the same size, by the same permutation, if not null) in place by the
+/// Morton code of each point of *a in a grid of 2^21 cells per axis over *a's bounding box, ties
+/// by index (deterministic). Points must be finite; a cloud of 2^31 points or more is left as it
+/// is. Allocation-free once the scratch is as large.
+void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
+
+}  // namespace detail
+}  // namespace ppcr

@@ -1,0 +1,112 @@
+// Tests of spatial_order.hpp: the Z-order sort against a reference Morton code computed bit by bit,
+// the permutation applied to both clouds alike, ties and degenerate clouds.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cstdint>
+#include <vector>
+
+#include "core_test_util.hpp"
+#include "spatial_order.hpp"
+
+using ppcr::PointCloud;
+using ppcr::detail::spatial_sort;
+using ppcr::detail::SpatialSortScratch;
+
+namespace {
+
+// The Morton code the header specifies, bit by bit: cell q = floor((p - lo) * 2^21 / extent)
+// (clamped to 2^21 - 1) per axis, bit i of x, y, z to bits 3i, 3i + 1, 3i + 2.
+std::uint64_t reference_code(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, double extent) {
+  std::uint64_t code = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double cells = static_cast<double>(1 << 21);
+    const double q = std::min(std::floor((p[axis] - lo[axis]) * (cells / extent)), cells - 1.0);
+    const std::uint64_t cell = static_cast<std::uint64_t>(q);
+    for (int bit = 0; bit < 21; ++bit) {
+      code |= ((cell >> bit) & 1u) << (3 * bit + axis);
+    }
+  }
+  return code;
+}
+
+// A cloud whose point i is (i, 0, 0): carried along as b, it tells where each point went.
+PointCloud index_cloud(std::size_t n) {
+  PointCloud c(n, Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < n; ++i) c[i].x() = static_cast<double>(i);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b alike",
+          "[spatial_order]") {
+  core_test::Rng rng(91);
+  PointCloud a = core_test::uniform_cloud(rng, 3000, -2.0, 5.0);
+  // Ties: copies of earlier points (equal codes), and a flat axis (z of a quarter set to 0).
+  for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
+  for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
+  const PointCloud original = a;
+  PointCloud b = index_cloud(a.size());
+  SpatialSortScratch scratch;
+  spatial_sort(&a, &b, &scratch);
+
+  Eigen::Vector3d lo = original[0], hi = original[0];
+  for (const Eigen::Vector3d& p : original) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double extent = (hi - lo).maxCoeff();
+  REQUIRE(a.size() == original.size());
+  std::vector<bool> seen(a.size(), false);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::size_t from = static_cast<std::size_t>(b[i].x());
+    REQUIRE(from < a.size());
+    CHECK_FALSE(seen[from]);  // a permutation
+    seen[from] = true;
+    CHECK(a[i] == original[from]);  // a and b moved alike
+    if (i > 0) {
+      const std::size_t prev = static_cast<std::size_t>(b[i - 1].x());
+      const std::uint64_t c0 = reference_code(original[prev], lo, extent);
+      const std::uint64_t c1 = reference_code(original[from], lo, extent);
+      CHECK((c0 < c1 || (c0 == c1 && prev < from)));
+    }
+  }
+}
+
+TEST_CASE("spatial_sort puts neighbours near each other in memory", "[spatial_order]") {
+  // A 32^3 lattice, shuffled: after the sort, consecutive points are mostly lattice neighbours
+  // (the Z-curve's jumps are rare), before it almost never.
+  core_test::Rng rng(92);
+  PointCloud a;
+  for (int x = 0; x < 32; ++x)
+    for (int y = 0; y < 32; ++y)
+      for (int z = 0; z < 32; ++z) a.emplace_back(x, y, z);
+  for (std::size_t i = a.size() - 1; i > 0; --i) {
+    std::swap(a[i],
+              a[static_cast<std::size_t>(core_test::uniform(rng, 0.0, 1.0) * (i + 1)) % (i + 1)]);
+  }
+  auto adjacent_fraction = [](const PointCloud& c) {
+    std::size_t adjacent = 0;
+    for (std::size_t i = 1; i < c.size(); ++i) adjacent += (c[i] - c[i - 1]).norm() < 1.5;
+    return static_cast<double>(adjacent) / static_cast<double>(c.size() - 1);
+  };
+  CHECK(adjacent_fraction(a) < 0.01);
+  SpatialSortScratch scratch;
+  spatial_sort(&a, nullptr, &scratch);
+  CHECK(adjacent_fraction(a) > 0.7);
+}
+
+TEST_CASE("spatial_sort keeps the order of identical points and of tiny clouds",
+          "[spatial_order]") {
+  SpatialSortScratch scratch;
+  PointCloud same(5, Eigen::Vector3d(1.0, 2.0, 3.0));  // extent 0: one cell
+  PointCloud b = index_cloud(5);
+  spatial_sort(&same, &b, &scratch);
+  for (std::size_t i = 0; i < 5; ++i) CHECK(b[i].x() == static_cast<double>(i));
+  PointCloud one(1, Eigen::Vector3d(4.0, 5.0, 6.0));
+  spatial_sort(&one, nullptr, &scratch);
+  CHECK(one[0] == Eigen::Vector3d(4.0, 5.0, 6.0));
+  PointCloud none;
+  spatial_sort(&none, nullptr, &scratch);
+  CHECK(none.empty());
+}
