@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace ppcr {
 namespace detail {
@@ -61,12 +62,14 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
   }
   constexpr double kCells = static_cast<double>(1 << 21);
   const double extent = (hi - lo).maxCoeff();
+  // One cloud point, or an extent beyond a double (points near +-DBL_MAX): nothing to gain.
+  if (!(extent > 0.0 && extent <= std::numeric_limits<double>::max())) return;
   // Cells of one size on every axis (a flat cloud keeps its neighbours close on the flat axis).
-  const double inv_cell = extent > 0.0 ? kCells / extent : 0.0;
+  // (p - lo) / extent is in [0, 1] also for a tiny extent, where kCells / extent would overflow.
   std::vector<std::pair<std::uint64_t, std::uint32_t>>& keys = scratch->keys;
   keys.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d q = (((*a)[i] - lo) * inv_cell).array().floor().min(kCells - 1.0);
+    const Eigen::Vector3d q = (((*a)[i] - lo) / extent * kCells).array().floor().min(kCells - 1.0);
     const std::uint64_t code = spread_bits(static_cast<std::uint64_t>(q.x())) |
                                spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
                                spread_bits(static_cast<std::uint64_t>(q.z())) << 2;

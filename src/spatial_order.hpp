@@ -6,8 +6,10 @@
 // neighbours lie scattered over the target array, and consecutive source points share few cache
 // lines. Along a Z-order curve of the bounding box's cells, most of a point's neighbours lie a
 // few entries apart, and consecutive source points have mostly the same neighbours
-// (docs/PERFORMANCE.md). The order is internal: no result depends on it, but for rounding
-// (sums are taken in another order).
+// (docs/PERFORMANCE.md). The order is internal; it changes results only as any order does: sums
+// are taken in another order (rounding), and among neighbours at exactly equal distances the
+// k-d tree's visiting order decides which are kept. The Z-order makes both independent of the
+// order of the input points (for points in distinct cells).
 #pragma once
 
 #include <cstdint>
@@ -27,8 +29,9 @@ struct SpatialSortScratch {
 
 /// Reorders *a (and *b, of the same size, by the same permutation, if not null) in place by the
 /// Morton code of each point of *a in a grid of 2^21 cells per axis over *a's bounding box, ties
-/// by index (deterministic). Points must be finite; a cloud of 2^31 points or more is left as it
-/// is. Allocation-free once the scratch is as large.
+/// by index (deterministic). Points must be finite; a cloud of 2^31 points or more, of one point
+/// or whose extent overflows a double is left as it is. Allocation-free once the scratch is as
+/// large.
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
 
 }  // namespace detail

@@ -96,7 +96,8 @@ inline double smallest(const double* r_sq, std::size_t n) {
 /// Student-t E-step of n >= 1 squared errors whose smallest is r_min (smallest()): writes
 /// u[0..n), returns c and, if kLogSumExp, the log-sum-exp (two logarithms per point; the
 /// normal-equation pass does not need it). z_min = r_min / s^2 is the smallest z_k: rounding is
-/// monotone, so scaling the smallest r_k gives the smallest of the scaled ones.
+/// monotone, so scaling the smallest r_k gives the smallest of the scaled ones (for
+/// 0 < inv_scale_sq <= DBL_MAX; an infinite one would make 0 * inf = NaN).
 template <bool kLogSumExp, class Power>
 inline PointWeights student_t_weights(const Power& power, double dof, double exponent,
                                       double inv_scale_sq, const double* r_sq, double r_min,

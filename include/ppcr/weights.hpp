@@ -64,7 +64,8 @@ struct WeightOptions {
 };
 
 /// Computes the weights of one source point's n associations from their squared errors.
-/// r_sq[k] = |e_k|^2 in cloud units^2, inv_scale_sq = 1 / s^2. Writes w[0..n). n >= 1.
+/// r_sq[k] = |e_k|^2 in cloud units^2, inv_scale_sq = 1 / s^2, finite and > 0 (the registration
+/// clamps it to DBL_MAX). Writes w[0..n). n >= 1.
 /// Returns logsumexp_k(log p_k): the log of the point's (unnormalised) mixture likelihood, with
 /// the constants of the density dropped.
 double compute_weights(WeightModel model, double dof, double inv_scale_sq, const double* r_sq,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core_test_util.hpp"
@@ -14,13 +15,13 @@ using ppcr::detail::SpatialSortScratch;
 
 namespace {
 
-// The Morton code the header specifies, bit by bit: cell q = floor((p - lo) * 2^21 / extent)
+// The Morton code the header specifies, bit by bit: cell q = floor((p - lo) / extent * 2^21)
 // (clamped to 2^21 - 1) per axis, bit i of x, y, z to bits 3i, 3i + 1, 3i + 2.
 std::uint64_t reference_code(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, double extent) {
   std::uint64_t code = 0;
   for (int axis = 0; axis < 3; ++axis) {
     const double cells = static_cast<double>(1 << 21);
-    const double q = std::min(std::floor((p[axis] - lo[axis]) * (cells / extent)), cells - 1.0);
+    const double q = std::min(std::floor((p[axis] - lo[axis]) / extent * cells), cells - 1.0);
     const std::uint64_t cell = static_cast<std::uint64_t>(q);
     for (int bit = 0; bit < 21; ++bit) {
       code |= ((cell >> bit) & 1u) << (3 * bit + axis);
@@ -36,20 +37,13 @@ PointCloud index_cloud(std::size_t n) {
   return c;
 }
 
-}  // namespace
-
-TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b alike",
-          "[spatial_order]") {
-  core_test::Rng rng(91);
-  PointCloud a = core_test::uniform_cloud(rng, 3000, -2.0, 5.0);
-  // Ties: copies of earlier points (equal codes), and a flat axis (z of a quarter set to 0).
-  for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
-  for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
-  const PointCloud original = a;
+// Checks that spatial_sort(original) is a permutation ordered by reference_code, ties by index,
+// that moves a second cloud alike.
+void check_sorted(const PointCloud& original) {
+  PointCloud a = original;
   PointCloud b = index_cloud(a.size());
   SpatialSortScratch scratch;
   spatial_sort(&a, &b, &scratch);
-
   Eigen::Vector3d lo = original[0], hi = original[0];
   for (const Eigen::Vector3d& p : original) {
     lo = lo.cwiseMin(p);
@@ -71,6 +65,35 @@ TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b al
       CHECK((c0 < c1 || (c0 == c1 && prev < from)));
     }
   }
+}
+
+}  // namespace
+
+TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b alike",
+          "[spatial_order]") {
+  core_test::Rng rng(91);
+  PointCloud a = core_test::uniform_cloud(rng, 3000, -2.0, 5.0);
+  // Ties: copies of earlier points (equal codes), and a flat axis (z of a quarter set to 0).
+  for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
+  for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
+  check_sorted(a);
+  // Extents of 1e-300 and 1e300 (kCells / extent would overflow for the first).
+  for (double scale : {1e-300, 1e300}) {
+    PointCloud scaled = a;
+    for (Eigen::Vector3d& p : scaled) p *= scale;
+    INFO("scale " << scale);
+    check_sorted(scaled);
+  }
+}
+
+TEST_CASE("spatial_sort leaves a cloud whose extent overflows as it is", "[spatial_order]") {
+  const double big = std::numeric_limits<double>::max();
+  PointCloud a = {Eigen::Vector3d(big, 0, 0), Eigen::Vector3d(0, 1, 0),
+                  Eigen::Vector3d(-big, 0, 0)};
+  const PointCloud original = a;
+  SpatialSortScratch scratch;
+  spatial_sort(&a, nullptr, &scratch);
+  CHECK(a == original);
 }
 
 TEST_CASE("spatial_sort puts neighbours near each other in memory", "[spatial_order]") {
