@@ -98,6 +98,8 @@ void NeighbourCache::invalidate() {
   last_queries = 0;
   last_seeded = 0;
   last_seed_repeats = 0;
+  last_neighbour_seeded = 0;
+  last_neighbour_seed_repeats = 0;
   last_resorted = 0;
 }
 
@@ -118,8 +120,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   if (cache->table != table || cache->table_k != k || cache->table_radius != radius) {
     cache->invalidate();
   }
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t jj) {
-    const std::size_t j = static_cast<std::size_t>(jj);
+  // Points in blocks of kSeedBlock, each visited in order by one thread: a point without a list
+  // to seed its query from may seed it from the block's previous point's list ("Seeded
+  // queries"). prev: that point, or -1 for a block's first point.
+  auto point = [&](std::size_t j, std::ptrdiff_t prev) {
     const std::size_t slot = j * static_cast<std::size_t>(k);
     const std::size_t cslot = j * static_cast<std::size_t>(capacity);
     std::uint32_t* out_idx = &table->index[slot];
@@ -186,18 +190,32 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     std::uint8_t seed = NeighbourCache::kUnseeded;
     auto query = [&](int want) {
       double bound_sq = candidate_radius_sq;
+      bool own = false;  // seeded by the point's own list, else by the previous point's
       const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;
       if (listed >= want) {
         if (!listed_distances) distances(target, p, cand, listed, cand_d);
         double b = 0.0;
         for (int c = 0; c < listed; ++c) b = cand_d[c] > b ? cand_d[c] : b;
         bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
+        own = true;
+      } else if (prev >= 0 && cache->bound[static_cast<std::size_t>(prev)] >= 0.0 &&
+                 cache->count[static_cast<std::size_t>(prev)] >= want) {
+        // `want` real target points (the first of the previous point's list) bound the
+        // distance of this point's want-th neighbour as well as its own list would.
+        const std::uint32_t* theirs =
+            &cache->index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(capacity)];
+        double b = 0.0;
+        for (int c = 0; c < want; ++c) {
+          const double d = squared_distance(p.data(), target[theirs[c]].data());
+          b = d > b ? d : b;
+        }
+        bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
       }
       const int found = target_tree.radius_knn(p, want, bound_sq, cand, cand_d);
       if (bound_sq == candidate_radius_sq) return found;
-      seed = NeighbourCache::kSeeded;
+      seed = own ? NeighbourCache::kSeeded : NeighbourCache::kNeighbourSeeded;
       if (found == want) return found;
-      seed = NeighbourCache::kSeedRepeated;
+      seed = own ? NeighbourCache::kSeedRepeated : NeighbourCache::kNeighbourSeedRepeated;
       return target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
     };
     int want = fast ? std::min(k + 1, capacity) : capacity;
@@ -214,22 +232,38 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     const int n = rerank(cand, cand_d, found, k, radius_sq, out_idx, out_d, &left_out_sq);
     ranked(n, n > 0 ? std::sqrt(out_d[n - 1]) : 0.0,
            std::min(std::sqrt(left_out_sq), cache->bound[j]));
+  };
+  constexpr std::size_t kSeedBlock = 64;
+  const std::size_t n_blocks = (source.size() + kSeedBlock - 1) / kSeedBlock;
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
+    const std::size_t end = std::min(source.size(), begin + kSeedBlock);
+    for (std::size_t j = begin; j < end; ++j) {
+      point(j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
+    }
   });
   cache->table = table;
   cache->table_k = k;
   cache->table_radius = radius;
   table->recount();
   std::size_t queries = 0, seeded = 0, repeats = 0, resorted = 0;
+  std::size_t neighbour_seeded = 0, neighbour_repeats = 0;
   for (std::size_t j = 0; j < cache->path.size(); ++j) {
     const bool queried = cache->path[j] == NeighbourCache::kQueried;
+    const std::uint8_t s = cache->seed[j];
     queries += queried;
-    seeded += queried && cache->seed[j] != NeighbourCache::kUnseeded;
-    repeats += queried && cache->seed[j] == NeighbourCache::kSeedRepeated;
+    seeded += queried && (s == NeighbourCache::kSeeded || s == NeighbourCache::kSeedRepeated);
+    repeats += queried && s == NeighbourCache::kSeedRepeated;
+    neighbour_seeded += queried && (s == NeighbourCache::kNeighbourSeeded ||
+                                    s == NeighbourCache::kNeighbourSeedRepeated);
+    neighbour_repeats += queried && s == NeighbourCache::kNeighbourSeedRepeated;
     resorted += cache->path[j] == NeighbourCache::kResorted;
   }
   cache->last_queries = queries;
   cache->last_seeded = seeded;
   cache->last_seed_repeats = repeats;
+  cache->last_neighbour_seeded = neighbour_seeded;
+  cache->last_neighbour_seed_repeats = neighbour_repeats;
   cache->last_resorted = resorted;
 }
 

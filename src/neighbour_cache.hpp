@@ -82,7 +82,15 @@ struct NeighbourCache {
   std::vector<std::uint8_t> path;
   // How a queried point's query was bounded in the last associate_cached ("Seeded queries"):
   // by r_c^2 only, by its list's seed, or by the seed and then again without it.
-  enum Seed : std::uint8_t { kUnseeded = 0, kSeeded = 1, kSeedRepeated = 2 };
+  // kNeighbourSeeded*: bounded by the previous point's list instead (no list of its own to seed
+  // from).
+  enum Seed : std::uint8_t {
+    kUnseeded = 0,
+    kSeeded = 1,
+    kSeedRepeated = 2,
+    kNeighbourSeeded = 3,
+    kNeighbourSeedRepeated = 4
+  };
   std::vector<std::uint8_t> seed;  // meaningful where path is kQueried
   // Counts of points, not of tree calls: a point queried twice counts once.
   std::size_t last_queries = 0;  // points the last associate_cached queried the k-d tree for
@@ -91,6 +99,10 @@ struct NeighbourCache {
   // seed. (A fast mover's re-query for capacity after a tie at its k-th is not this repeat,
   // and is not counted.)
   std::size_t last_seed_repeats = 0;
+  // Of the points queried, those whose first query was bounded by the previous point's list, and
+  // of those, the ones repeated without that seed.
+  std::size_t last_neighbour_seeded = 0;
+  std::size_t last_neighbour_seed_repeats = 0;
   std::size_t last_resorted = 0;  // rows it refreshed by the set certificate
   // What the last call was for: another table, k or radius invalidates the cache first.
   const AssociationTable* table = nullptr;

@@ -317,8 +317,10 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
   }
 }
 
-TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidates, ties included",
-          "[association]") {
+TEST_CASE(
+    "associate_cached: a seeded query keeps the unbounded query's candidates, ties included; "
+    "also seeded by the previous point's list",
+    "[association]") {
   // From cell centres (capacity 17: 8 points at sqrt(0.75), then 9 of 24 at sqrt(2.75), so B_j =
   // sqrt(2.75) ~ 1.66), every point moves 0.5 onto a face centre: not a fast mover (0.5 <
   // kFastMove x B_j), and its list fails (only 12 target points lie within sqrt(1.5), so its
@@ -346,6 +348,10 @@ TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidat
   REQUIRE(warm.last_seeded == lattice.source.size());  // every query took the seeded path
   CHECK(warm.last_seed_repeats == 0u);                 // and kept its seed
   CHECK(fresh.last_seeded == 0u);                      // a fresh cache has no lists to seed
+  // ... but its points seed from the previous point's list: all but the first of each block.
+  CHECK(fresh.last_neighbour_seeded > lattice.source.size() / 2);
+  CHECK(fresh.last_neighbour_seed_repeats == 0u);
+  CHECK(warm.last_neighbour_seeded == 0u);  // every warm point had a list of its own
   REQUIRE(table_mismatch(t_warm, lattice.source, lattice.target, at(0.5), radius * radius) == "");
   CHECK(t_warm.index == t_fresh.index);
   CHECK(t_warm.dist_sq == t_fresh.dist_sq);
@@ -361,6 +367,53 @@ TEST_CASE("associate_cached: a seeded query keeps the unbounded query's candidat
     const std::uint32_t* listed = &warm.index[j * capacity];
     differ += warm.count[j] != found || warm.bound[j] != std::sqrt(d2[capacity - 1]) ||
               !std::equal(idx, idx + found, listed);
+    // The fresh cache's lists, seeded by their neighbours' (the same 5 of 8 tied points).
+    const std::uint32_t* fresh_listed = &fresh.index[j * capacity];
+    differ += fresh.count[j] != found || fresh.bound[j] != std::sqrt(d2[capacity - 1]) ||
+              !std::equal(idx, idx + found, fresh_listed);
+  }
+  CHECK(differ == 0);
+}
+
+TEST_CASE(
+    "associate_cached: a query seeded by the previous point's list at its own k-th distance "
+    "keeps the unbounded query's tied candidates",
+    "[association]") {
+  // Every source point twice in a row: the second copy's seed, the largest distance in the first
+  // copy's list, is exactly its own capacity-th distance, where 8 points tie (face centres of the
+  // integer lattice, 4 + 8 points at squared distances 0.5 and 1.5, 8 at 2.5). The bound must
+  // keep every tied point the unbounded search would see first (the slack of 1e-9), and find
+  // `capacity` without a repeat.
+  const Lattice lattice(63);
+  REQUIRE(lattice.built);
+  const int k = 13, capacity = 17;
+  const double radius = 2.5;
+  const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
+  PointCloud twice;
+  for (const Eigen::Vector3d& s : lattice.source) {
+    twice.push_back(s);
+    twice.push_back(s);
+  }
+  NeighbourCache cache;
+  cache.resize(twice.size(), capacity);
+  AssociationTable table;
+  table.resize(twice.size(), k);
+  ppcr::detail::associate_cached(lattice.tree, lattice.target, twice, at(0.5), radius, 1, &cache,
+                                 &table);
+  REQUIRE(cache.last_queries == twice.size());
+  CHECK(cache.last_neighbour_seeded >= twice.size() / 2);  // at least every second copy
+  CHECK(cache.last_neighbour_seed_repeats == 0u);
+  REQUIRE(table_mismatch(table, twice, lattice.target, at(0.5), radius * radius) == "");
+  std::uint32_t idx[NeighbourCache::kMaxCapacity];
+  double d2[NeighbourCache::kMaxCapacity];
+  int differ = 0;
+  for (std::size_t j = 0; j < twice.size(); ++j) {
+    const Eigen::Vector3d p = at(0.5) * twice[j];
+    const int found =
+        lattice.tree.radius_knn(p, capacity, candidate_radius * candidate_radius, idx, d2);
+    REQUIRE(found == capacity);
+    REQUIRE(d2[capacity - 1] == 2.5);
+    differ += cache.count[j] != found || !std::equal(idx, idx + found, &cache.index[j * capacity]);
   }
   CHECK(differ == 0);
 }
