@@ -185,8 +185,9 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // coordinates (the tree's copy is exact) in the same expression, squared_distance().
     // The k + 1-th decides ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the
     // k-th, the point is queried for capacity after all.
-    // A point with a list of at least `want` candidates seeds its query (neighbour_cache.hpp,
-    // "Seeded queries", for why the seeded search finds the same want nearest in the same order).
+    // A point with a list of at least `want` candidates seeds its query, else one whose block's
+    // previous point has such a list takes that (neighbour_cache.hpp, "Seeded queries", for why
+    // the seeded search finds the same want nearest in the same order).
     std::uint8_t seed = NeighbourCache::kUnseeded;
     auto query = [&](int want) {
       double bound_sq = candidate_radius_sq;
@@ -198,8 +199,9 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         for (int c = 0; c < listed; ++c) b = cand_d[c] > b ? cand_d[c] : b;
         bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
         own = true;
-      } else if (prev >= 0 && cache->bound[static_cast<std::size_t>(prev)] >= 0.0 &&
-                 cache->count[static_cast<std::size_t>(prev)] >= want) {
+      } else if (prev >= 0 && cache->count[static_cast<std::size_t>(prev)] >= want) {
+        // prev was visited before j in this call, so its list is valid (queried, or kept).
+        assert(cache->bound[static_cast<std::size_t>(prev)] >= 0.0);
         // `want` real target points (the first of the previous point's list) bound the
         // distance of this point's want-th neighbour as well as its own list would.
         const std::uint32_t* theirs =

@@ -50,6 +50,12 @@
 // them, and from then on it prunes by its want-th as the unbounded search does. Should it find
 // fewer than it wants (rounding beyond that slack), it is repeated without the bound. The cache
 // counts both (last_seeded, last_seed_repeats).
+// The argument needs only `want` distinct real target points, not the point's own: a point with
+// no list of its own that long (every point in the first call; a fast mover's k + 1 list) takes
+// the first `want` of the previous point's list. The points are visited in blocks of 64, each in
+// order on one thread, so the previous point's list is the one it was left with in this call
+// (queried, or kept); in Z-order (spatial_order.hpp) that point is a neighbour and the bound
+// tight. Counted apart (last_neighbour_seeded, last_neighbour_seed_repeats).
 //
 // Cost (measured with K = 18, before the set certificate): a re-ranked point takes ~120 ns against
 // ~820 ns for a k-d tree query (ppcr_microbench: BM_AssociateCached, BM_RadiusKnnQuery); late outer
@@ -94,7 +100,7 @@ struct NeighbourCache {
   std::vector<std::uint8_t> seed;  // meaningful where path is kQueried
   // Counts of points, not of tree calls: a point queried twice counts once.
   std::size_t last_queries = 0;  // points the last associate_cached queried the k-d tree for
-  std::size_t last_seeded = 0;   // of those, points whose first query was bounded by a seed
+  std::size_t last_seeded = 0;   // of those, points whose first query was bounded by their own list
   // Of those, points whose seeded query found fewer than it wanted and was repeated without the
   // seed. (A fast mover's re-query for capacity after a tie at its k-th is not this repeat,
   // and is not counted.)

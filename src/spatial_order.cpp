@@ -62,7 +62,8 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
   }
   constexpr double kCells = static_cast<double>(1 << 21);
   const double extent = (hi - lo).maxCoeff();
-  // One cloud point, or an extent beyond a double (points near +-DBL_MAX): nothing to gain.
+  // All points equal (extent 0), or an extent beyond a double (points near +-DBL_MAX): nothing
+  // to gain.
   if (!(extent > 0.0 && extent <= std::numeric_limits<double>::max())) return;
   // Cells of one size on every axis (a flat cloud keeps its neighbours close on the flat axis).
   // (p - lo) / extent is in [0, 1] also for a tiny extent, where kCells / extent would overflow.

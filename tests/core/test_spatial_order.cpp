@@ -77,8 +77,8 @@ TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b al
   for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
   for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
   check_sorted(a);
-  // Extents of 1e-300 and 1e300 (kCells / extent would overflow for the first).
-  for (double scale : {1e-300, 1e300}) {
+  // Extents of ~7e-305 and ~7e300 (2^21 / extent would overflow for the first: below ~1.2e-302).
+  for (double scale : {1e-305, 1e300}) {
     PointCloud scaled = a;
     for (Eigen::Vector3d& p : scaled) p *= scale;
     INFO("scale " << scale);
