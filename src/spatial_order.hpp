@@ -28,10 +28,10 @@ struct SpatialSortScratch {
 };
 
 /// Reorders *a (and *b, of the same size, by the same permutation, if not null) in place by the
-/// Morton code of each point of *a in a grid of 2^21 cells per axis over *a's bounding box, ties
-/// by index (deterministic). Points must be finite; a cloud of 2^31 points or more, of one point
-/// or whose extent overflows a double is left as it is. Allocation-free once the scratch is as
-/// large.
+/// Morton code of each point of *a over *a's bounding box, in cubic cells of 1 / 2^21 of its
+/// longest side, ties by index (deterministic). Points must be finite; a cloud of fewer than 2 or
+/// 2^31 or more points, of identical points or whose extent overflows a double is left as it is.
+/// Allocation-free once the scratch is as large.
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
 
 }  // namespace detail

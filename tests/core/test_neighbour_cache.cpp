@@ -99,27 +99,39 @@ Eigen::Isometry3d at(double x) {
   return T;
 }
 
-// The lattice's face-centre scene of the seeded-query tests: how many of the cache's lists for
-// `source` at T differ (indices in order, count, bound) from a direct, unbounded query of
-// `capacity` within r_c, whose last distance must be the tie at squared distance 2.5.
-int lists_differing_from_queries(const Lattice& lattice, const PointCloud& source,
-                                 const NeighbourCache& cache, const Eigen::Isometry3d& T,
-                                 int capacity, double radius) {
-  const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
-  std::uint32_t idx[NeighbourCache::kMaxCapacity];
-  double d2[NeighbourCache::kMaxCapacity];
-  int differ = 0;
-  for (std::size_t j = 0; j < source.size(); ++j) {
-    const int found = lattice.tree.radius_knn(T * source[j], capacity,
-                                              candidate_radius * candidate_radius, idx, d2);
-    REQUIRE(found == capacity);
-    REQUIRE(d2[capacity - 1] == 2.5);  // the tie is cut by the query
-    const std::uint32_t* listed = &cache.index[j * static_cast<std::size_t>(capacity)];
-    differ += cache.count[j] != found || cache.bound[j] != std::sqrt(d2[capacity - 1]) ||
-              !std::equal(idx, idx + found, listed);
+// The face-centre scene of the seeded-query tests: the lattice, k = 13, capacity 17, radius 2.5.
+// At a face centre 4 + 8 target points lie at squared distances 0.5 and 1.5 and 8 tie at 2.5, so
+// a query of 17 cuts the tie.
+struct FaceCentres {
+  static constexpr int k = 13, capacity = 17;
+  static constexpr double radius = 2.5;
+  Lattice lattice;
+  explicit FaceCentres(std::uint32_t seed) : lattice(seed) { REQUIRE(lattice.built); }
+  // A cache and a table for n source points.
+  void size(std::size_t n, NeighbourCache* cache, AssociationTable* table) const {
+    cache->resize(n, capacity);
+    table->resize(n, k);
   }
-  return differ;
-}
+  // How many of the cache's lists for `source` at T differ (indices in order, count, bound) from
+  // a direct, unbounded query of `capacity` within r_c, whose last distance must be the tie.
+  int lists_differing_from_queries(const PointCloud& source, const NeighbourCache& cache,
+                                   const Eigen::Isometry3d& T) const {
+    const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
+    std::uint32_t idx[NeighbourCache::kMaxCapacity];
+    double d2[NeighbourCache::kMaxCapacity];
+    int differ = 0;
+    for (std::size_t j = 0; j < source.size(); ++j) {
+      const int found = lattice.tree.radius_knn(T * source[j], capacity,
+                                                candidate_radius * candidate_radius, idx, d2);
+      REQUIRE(found == capacity);
+      REQUIRE(d2[capacity - 1] == 2.5);  // the tie is cut by the query
+      const std::uint32_t* listed = &cache.index[j * static_cast<std::size_t>(capacity)];
+      differ += cache.count[j] != found || cache.bound[j] != std::sqrt(d2[capacity - 1]) ||
+                !std::equal(idx, idx + found, listed);
+    }
+    return differ;
+  }
+};
 
 }  // namespace
 
@@ -362,16 +374,13 @@ TEST_CASE(
   // tie at 2.5: the query of 17 keeps 5 of the 8 in the tree's visiting order, and the row's 13th
   // is one of them. The seeded query must keep the same 5 as an unbounded one, so the list
   // (indices, count, bound) and the row equal a direct query's and a fresh cache's.
-  const Lattice lattice(61);
-  REQUIRE(lattice.built);
-  const int k = 13, capacity = 17;
-  const double radius = 2.5;
+  const FaceCentres scene(61);
+  const Lattice& lattice = scene.lattice;
+  const double radius = FaceCentres::radius;
   NeighbourCache warm, fresh;
-  warm.resize(lattice.source.size(), capacity);
-  fresh.resize(lattice.source.size(), capacity);
   AssociationTable t_warm, t_fresh;
-  t_warm.resize(lattice.source.size(), k);
-  t_fresh.resize(lattice.source.size(), k);
+  scene.size(lattice.source.size(), &warm, &t_warm);
+  scene.size(lattice.source.size(), &fresh, &t_fresh);
   lattice.associate(at(0.0), radius, &warm, &t_warm);
   REQUIRE(0.5 <= NeighbourCache::kFastMove * std::sqrt(2.75));
   lattice.associate(at(0.5), radius, &warm, &t_warm);
@@ -387,11 +396,9 @@ TEST_CASE(
   REQUIRE(table_mismatch(t_warm, lattice.source, lattice.target, at(0.5), radius * radius) == "");
   CHECK(t_warm.index == t_fresh.index);
   CHECK(t_warm.dist_sq == t_fresh.dist_sq);
-  CHECK(lists_differing_from_queries(lattice, lattice.source, warm, at(0.5), capacity, radius) ==
-        0);
+  CHECK(scene.lists_differing_from_queries(lattice.source, warm, at(0.5)) == 0);
   // The fresh cache's lists, seeded by their neighbours' (the same 5 of 8 tied points).
-  CHECK(lists_differing_from_queries(lattice, lattice.source, fresh, at(0.5), capacity, radius) ==
-        0);
+  CHECK(scene.lists_differing_from_queries(lattice.source, fresh, at(0.5)) == 0);
 }
 
 TEST_CASE(
@@ -403,26 +410,24 @@ TEST_CASE(
   // integer lattice, 4 + 8 points at squared distances 0.5 and 1.5, 8 at 2.5). A seed below the
   // k-th distance would find fewer than `capacity` and be repeated (counted); on this lattice's
   // exact distances the 1e-9 slack itself is not exercised.
-  const Lattice lattice(63);
-  REQUIRE(lattice.built);
-  const int k = 13, capacity = 17;
-  const double radius = 2.5;
+  const FaceCentres scene(63);
+  const Lattice& lattice = scene.lattice;
+  const double radius = FaceCentres::radius;
   PointCloud twice;
   for (const Eigen::Vector3d& s : lattice.source) {
     twice.push_back(s);
     twice.push_back(s);
   }
   NeighbourCache cache;
-  cache.resize(twice.size(), capacity);
   AssociationTable table;
-  table.resize(twice.size(), k);
+  scene.size(twice.size(), &cache, &table);
   ppcr::detail::associate_cached(lattice.tree, lattice.target, twice, at(0.5), radius, 1, &cache,
                                  &table);
   REQUIRE(cache.last_queries == twice.size());
   CHECK(cache.last_neighbour_seeded >= twice.size() / 2);  // at least every second copy
   CHECK(cache.last_neighbour_seed_repeats == 0u);
   REQUIRE(table_mismatch(table, twice, lattice.target, at(0.5), radius * radius) == "");
-  CHECK(lists_differing_from_queries(lattice, twice, cache, at(0.5), capacity, radius) == 0);
+  CHECK(scene.lists_differing_from_queries(twice, cache, at(0.5)) == 0);
 }
 
 TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried rows, bit for bit",
