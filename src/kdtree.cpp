@@ -1,6 +1,7 @@
 // kdtree.cpp - the k-d tree: built by nanoflann (kdtree_nanoflann.hpp), searched on a flat copy.
 #include "kdtree.hpp"
 
+#include <algorithm>
 #include <new>
 #include <string>
 #include <utility>
@@ -14,9 +15,9 @@ namespace {
 
 // nanoflann's tree, flattened for the search: nodes in depth-first order (a split node's first
 // child follows it; `second` indexes the other), and the points copied in the tree's leaf order,
-// so that a leaf scans contiguous coordinates instead of gathering through nanoflann's index
-// array. The search below is nanoflann's searchLevel (same bounds, same visiting order, hence
-// the same result) on this layout.
+// x, y and z apart, so that a leaf scans contiguous coordinates (its distances vectorise) instead
+// of gathering through nanoflann's index array. The search below is nanoflann's searchLevel (same
+// bounds, same visiting order, hence the same result) on this layout.
 struct FlatNode {
   // Split node: the first child's upper and the second child's lower extent along `axis`
   // (nanoflann's divlow, divhigh).
@@ -25,13 +26,18 @@ struct FlatNode {
   std::uint32_t axis;    // split node: 0..2; leaf: kLeaf | one past its last point
 };
 constexpr std::uint32_t kLeaf = 0x80000000u;
+// Points a leaf's distances are computed for at once (on the stack); a leaf holds at most
+// kLeafMaxSize (kdtree_nanoflann.hpp), and a larger one would be scanned in several chunks.
+constexpr std::uint32_t kChunk = 32;
+static_assert(kLeafMaxSize <= kChunk, "a leaf of nanoflann's tree is scanned in one chunk");
 
 }  // namespace
 
 struct KdTree::Impl {
   std::vector<FlatNode> nodes;
-  std::vector<double> xyz;           // point i of the leaf order at xyz[3 i .. 3 i + 3)
-  std::vector<std::uint32_t> index;  // its index in the cloud
+  // Point i of the n in the leaf order at (xyz[i], xyz[n + i], xyz[2 n + i]).
+  std::vector<double> xyz;
+  std::vector<std::uint32_t> index;                        // its index in the cloud
   double box_low[3] = {0, 0, 0}, box_high[3] = {0, 0, 0};  // the cloud's bounding box
 
   template <class Node>
@@ -58,13 +64,37 @@ struct KdTree::Impl {
   void search(const FlatNode* node, const double* q, double min_dist_sq, double* axis_dist_sq,
               RadiusKnnResultSet& result) const {
     if (node->axis & kLeaf) {
+      // nanoflann's leaf loop keeps a point when it is nearer than the result's bound at the time
+      // it is reached. Here, in two branch-free steps and a short branchy one: the distances of
+      // the leaf's points (squared_distance's expression, component by component, vectorised),
+      // then the points nearer than the bound at the chunk's start, in leaf order, then those
+      // kept, each checked against the current bound. The bound only shrinks, so a point it
+      // keeps passed the first check: the same points in the same order as nanoflann's loop.
       const std::uint32_t end = node->axis & ~kLeaf;
-      double worst = result.worstDist();
-      for (std::uint32_t i = node->second; i < end; ++i) {
-        const double d = squared_distance(q, &xyz[3 * static_cast<std::size_t>(i)]);
-        if (d < worst) {
-          result.insert(d, index[i]);
-          worst = result.worstDist();
+      const std::size_t n = index.size();
+      const double* x = xyz.data();
+      const double* y = x + n;
+      const double* z = y + n;
+      for (std::uint32_t begin = node->second; begin < end; begin += kChunk) {
+        const std::uint32_t count = std::min(kChunk, end - begin);
+        double d[kChunk];
+        for (std::uint32_t i = 0; i < count; ++i) {
+          const double dx = q[0] - x[begin + i], dy = q[1] - y[begin + i], dz = q[2] - z[begin + i];
+          d[i] = dx * dx + dy * dy + dz * dz;
+        }
+        double worst = result.worstDist();
+        std::uint32_t near[kChunk];
+        std::uint32_t near_count = 0;
+        for (std::uint32_t i = 0; i < count; ++i) {
+          near[near_count] = i;
+          near_count += d[i] < worst;
+        }
+        for (std::uint32_t c = 0; c < near_count; ++c) {
+          const std::uint32_t i = near[c];
+          if (d[i] < worst) {
+            result.insert(d[i], index[begin + i]);
+            worst = result.worstDist();
+          }
         }
       }
       return;
@@ -107,10 +137,10 @@ Status KdTree::build(const PointCloud& points) {
   m = Impl();
   if (points.empty()) return Status::Ok();
   try {
-    // nanoflann builds the tree (leaves of at most 16 points); its nodes are then copied into
-    // the flat layout and its own structure is freed.
+    // nanoflann builds the tree (leaves of at most kLeafMaxSize points); its nodes are then
+    // copied into the flat layout and its own structure is freed.
     const CloudAdaptor adaptor{&points};
-    const Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafMaxSize));
     const auto& box = tree_bounding_box(tree);
     for (int a = 0; a < 3; ++a) {
       m.box_low[a] = box[static_cast<std::size_t>(a)].low;
@@ -118,10 +148,11 @@ Status KdTree::build(const PointCloud& points) {
     }
     const std::vector<std::uint32_t>& leaf_order = tree_leaf_order(tree);
     m.index.assign(leaf_order.begin(), leaf_order.end());
-    m.xyz.resize(3 * m.index.size());
-    for (std::size_t i = 0; i < m.index.size(); ++i) {
+    const std::size_t n = m.index.size();
+    m.xyz.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a)
-        m.xyz[3 * i + static_cast<std::size_t>(a)] = points[m.index[i]][a];
+        m.xyz[static_cast<std::size_t>(a) * n + i] = points[m.index[i]][a];
     }
     m.flatten(tree_root(tree));
     m.nodes.shrink_to_fit();

@@ -29,6 +29,13 @@ struct CloudAdaptor {
   }
 };
 
+// nanoflann's leaf_max_size for the tree (a node of at most this many points is a leaf). With
+// the two-step leaf scan of kdtree.cpp, leaves of 24 and of 32 were both faster on both
+// benchmark sets than the one-step scan with leaves of 16, within the noise of each other (the
+// two-step scan with 16 was not faster on lidar); with the one-step scan, 8 and 12 were slower
+// than 16 (docs/PERFORMANCE.md, update "leaves of 24 points").
+constexpr unsigned kLeafMaxSize = 24;
+
 // The k nearest within a radius: nanoflann's KNN result set with an upper bound. nanoflann
 // visits a candidate only if its squared distance is strictly below worstDist(); while fewer
 // than k are held, worstDist() is the next double above radius_sq, so a point exactly at the

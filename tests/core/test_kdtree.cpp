@@ -284,7 +284,8 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
     KdTree tree;
     REQUIRE(tree.build(cloud).ok());
     const ppcr::detail::CloudAdaptor adaptor{&cloud};
-    const ppcr::detail::Tree reference(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const ppcr::detail::Tree reference(
+        3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
     for (int qi = 0; qi < 200; ++qi) {
       Eigen::Vector3d q = cloud[rng() % n];
       if (qi % 2 == 1) q[static_cast<int>(rng() % 3)] += 0.05 * static_cast<double>(rng() % 5);
