@@ -15,9 +15,9 @@ namespace {
 
 // nanoflann's tree, flattened for the search: nodes in depth-first order (a split node's first
 // child follows it; `second` indexes the other), and the points copied in the tree's leaf order,
-// x, y and z apart, so that a leaf scans contiguous coordinates (its distances vectorise) instead
-// of gathering through nanoflann's index array. The search below is nanoflann's searchLevel (same
-// bounds, same visiting order, hence the same result) on this layout.
+// x, y and z apart, so that a leaf scans contiguous coordinates (its distances are vectorisable)
+// instead of gathering through nanoflann's index array. The search below is nanoflann's searchLevel
+// (same bounds, same visiting order, hence the same result) on this layout.
 struct FlatNode {
   // Split node: the first child's upper and the second child's lower extent along `axis`
   // (nanoflann's divlow, divhigh).
@@ -26,8 +26,10 @@ struct FlatNode {
   std::uint32_t axis;    // split node: 0..2; leaf: kLeaf | one past its last point
 };
 constexpr std::uint32_t kLeaf = 0x80000000u;
-// Points a leaf's distances are computed for at once (on the stack); a leaf holds at most
-// kLeafMaxSize (kdtree_nanoflann.hpp), and a larger one would be scanned in several chunks.
+// Points a leaf's distances are computed for at once (on the stack). A leaf holds at most
+// kLeafMaxSize points (kdtree_nanoflann.hpp), so it is one chunk; the loop over chunks is for
+// safety only (a larger leaf would be scanned in several, not overflow the arrays), and no test
+// reaches a second chunk.
 constexpr std::uint32_t kChunk = 32;
 static_assert(kLeafMaxSize <= kChunk, "a leaf of nanoflann's tree is scanned in one chunk");
 
@@ -64,12 +66,13 @@ struct KdTree::Impl {
   void search(const FlatNode* node, const double* q, double min_dist_sq, double* axis_dist_sq,
               RadiusKnnResultSet& result) const {
     if (node->axis & kLeaf) {
-      // nanoflann's leaf loop keeps a point when it is nearer than the result's bound at the time
-      // it is reached. Here, in two branch-free steps and a short branchy one: the distances of
-      // the leaf's points (squared_distance's expression, component by component, vectorised),
-      // then the points nearer than the bound at the chunk's start, in leaf order, then those
-      // kept, each checked against the current bound. The bound only shrinks, so a point it
-      // keeps passed the first check: the same points in the same order as nanoflann's loop.
+      // nanoflann's leaf loop compares each point with the bound at the leaf's start, and
+      // addPoint re-checks it against the current one. Here the first check is done for the
+      // whole leaf at once, in two branch-free steps: the distances of the leaf's points
+      // (squared_distance's expression, component by component; vectorisable, GCC -O3: two
+      // lanes with SSE2), then the list of the points nearer than the bound at the chunk's
+      // start, in leaf order. Then each of those, checked against the current bound, is
+      // inserted. The bound only shrinks: the same points in the same order as nanoflann's loop.
       const std::uint32_t end = node->axis & ~kLeaf;
       const std::size_t n = index.size();
       const double* x = xyz.data();
@@ -83,14 +86,14 @@ struct KdTree::Impl {
           d[i] = dx * dx + dy * dy + dz * dz;
         }
         double worst = result.worstDist();
-        std::uint32_t near[kChunk];
-        std::uint32_t near_count = 0;
+        std::uint32_t below[kChunk];
+        std::uint32_t below_count = 0;
         for (std::uint32_t i = 0; i < count; ++i) {
-          near[near_count] = i;
-          near_count += d[i] < worst;
+          below[below_count] = i;
+          below_count += d[i] < worst;
         }
-        for (std::uint32_t c = 0; c < near_count; ++c) {
-          const std::uint32_t i = near[c];
+        for (std::uint32_t c = 0; c < below_count; ++c) {
+          const std::uint32_t i = below[c];
           if (d[i] < worst) {
             result.insert(d[i], index[begin + i]);
             worst = result.worstDist();

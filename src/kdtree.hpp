@@ -18,7 +18,7 @@ namespace detail {
 
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
 /// (neighbour_cache.cpp) call this expression, and the k-d tree's leaves (kdtree.cpp) evaluate
-/// the same one on x, y and z arrays, vectorised, so that a query's distances and a cached
+/// the same one on x, y and z arrays (vectorisable), so that a query's distances and a cached
 /// candidate's are computed alike. Where the compiler fuses multiply-adds it fuses both the same
 /// way (GCC 12 -O3 -march=haswell: the tests below pass on such a build); C++ does not guarantee
 /// that (not under -ffast-math, for one). Tests with == on the build at hand:
@@ -37,7 +37,7 @@ class KdTree {
   KdTree& operator=(KdTree&&) noexcept;
 
   /// Indexes a copy of points (in the tree's leaf order: 24 B per point, plus a 4 B index and
-  /// about 4 B of nodes, 3.8 on the lidar target; nanoflann's own tree, a 4 B index and 40 B
+  /// about 4 B of nodes, 3.8 B on the lidar target; nanoflann's own tree, a 4 B index and 40 B
   /// nodes, exists during the build only). At most 2^31 - 1 points.
   Status build(const PointCloud& points);
 

@@ -29,11 +29,12 @@ struct CloudAdaptor {
   }
 };
 
-// nanoflann's leaf_max_size for the tree (a node of at most this many points is a leaf). With
-// the two-step leaf scan of kdtree.cpp, leaves of 24 and of 32 were both faster on both
-// benchmark sets than the one-step scan with leaves of 16, within the noise of each other (the
-// two-step scan with 16 was not faster on lidar); with the one-step scan, 8 and 12 were slower
-// than 16 (docs/PERFORMANCE.md, update "leaves of 24 points").
+// nanoflann's leaf_max_size: a node of at most this many points is a leaf (nanoflann 1.4-1.7
+// split a larger node so that each side keeps at least one point: leaves hold 1 to
+// kLeafMaxSize). By timing (docs/PERFORMANCE.md, update "leaves of 24 points"; gains of a few %
+// against this VM's noise): leaves of 24 and 32 were faster than 16 with either leaf scan, within
+// the noise of each other; with the one-step scan 8 was slower and 12 no faster; the two-step
+// scan with 16 was not faster on lidar.
 constexpr unsigned kLeafMaxSize = 24;
 
 // The k nearest within a radius: nanoflann's KNN result set with an upper bound. nanoflann
