@@ -69,9 +69,9 @@ struct KdTree::Impl {
       // nanoflann's leaf loop compares each point with the bound at the leaf's start, and
       // addPoint re-checks it against the current one. Here the first check is done for the
       // whole leaf at once, in two branch-free steps: the distances of the leaf's points
-      // (squared_distance's expression, component by component; vectorisable, GCC -O3: two
-      // lanes with SSE2), then the list of the points nearer than the bound at the chunk's
-      // start, in leaf order. Then each of those, checked against the current bound, is
+      // (squared_distance on the coordinate arrays; vectorisable, GCC -O3: two lanes with
+      // SSE2), then the list of the points nearer than the bound at the chunk's start, in leaf
+      // order. Then each of those, checked against the current bound, is
       // inserted. The bound only shrinks: the same points in the same order as nanoflann's loop.
       const std::uint32_t end = node->axis & ~kLeaf;
       const std::size_t n = index.size();
@@ -82,8 +82,7 @@ struct KdTree::Impl {
         const std::uint32_t count = std::min(kChunk, end - begin);
         double d[kChunk];
         for (std::uint32_t i = 0; i < count; ++i) {
-          const double dx = q[0] - x[begin + i], dy = q[1] - y[begin + i], dz = q[2] - z[begin + i];
-          d[i] = dx * dx + dy * dy + dz * dz;
+          d[i] = squared_distance(q, x[begin + i], y[begin + i], z[begin + i]);
         }
         double worst = result.worstDist();
         std::uint32_t below[kChunk];

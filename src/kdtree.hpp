@@ -17,16 +17,20 @@ namespace ppcr {
 namespace detail {
 
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
-/// (neighbour_cache.cpp) call this expression, and the k-d tree's leaves (kdtree.cpp) evaluate
-/// the same one on x, y and z arrays (vectorisable), so that a query's distances and a cached
-/// candidate's are computed alike. Where the compiler fuses multiply-adds it fuses both the same
-/// way (GCC 12 -O3 -march=haswell: the tests below pass on such a build); C++ does not guarantee
-/// that (not under -ffast-math, for one). Tests with == on the build at hand:
-/// tests/core/test_kdtree.cpp (the tree against this function) and
-/// tests/core/test_neighbour_cache.cpp (queried rows against re-ranked ones).
-inline double squared_distance(const double* a, const double* b) {
-  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+/// (neighbour_cache.cpp) call it, and the k-d tree's leaves (kdtree.cpp) call its form that takes
+/// b's coordinates apart, on x, y and z arrays (vectorisable), so that a query's distances and a
+/// cached candidate's are computed alike. Where the compiler fuses multiply-adds it fuses both the
+/// same way (GCC 12 -O3 -march=haswell: the tests below passed on such a build of 27eb01e, which
+/// wrote the expression out in the leaf loop); C++ does not guarantee that (not under
+/// -ffast-math, for one). Tests with == on the build at hand: tests/core/test_kdtree.cpp (the tree
+/// against this function) and tests/core/test_neighbour_cache.cpp (queried rows against re-ranked
+/// ones).
+inline double squared_distance(const double* a, double bx, double by, double bz) {
+  const double dx = a[0] - bx, dy = a[1] - by, dz = a[2] - bz;
   return dx * dx + dy * dy + dz * dz;
+}
+inline double squared_distance(const double* a, const double* b) {
+  return squared_distance(a, b[0], b[1], b[2]);
 }
 
 class KdTree {

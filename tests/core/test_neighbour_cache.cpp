@@ -107,8 +107,8 @@ struct FaceCentres {
   static constexpr double radius = 2.5;
   Lattice lattice;
   explicit FaceCentres(std::uint32_t seed) : lattice(seed) { REQUIRE(lattice.built); }
-  // A cache and a table for n source points.
-  void size(std::size_t n, NeighbourCache* cache, AssociationTable* table) const {
+  // Resizes a cache and a table for n source points.
+  void resize(std::size_t n, NeighbourCache* cache, AssociationTable* table) const {
     cache->resize(n, capacity);
     table->resize(n, k);
   }
@@ -379,8 +379,8 @@ TEST_CASE(
   const double radius = FaceCentres::radius;
   NeighbourCache warm, fresh;
   AssociationTable t_warm, t_fresh;
-  scene.size(lattice.source.size(), &warm, &t_warm);
-  scene.size(lattice.source.size(), &fresh, &t_fresh);
+  scene.resize(lattice.source.size(), &warm, &t_warm);
+  scene.resize(lattice.source.size(), &fresh, &t_fresh);
   lattice.associate(at(0.0), radius, &warm, &t_warm);
   REQUIRE(0.5 <= NeighbourCache::kFastMove * std::sqrt(2.75));
   lattice.associate(at(0.5), radius, &warm, &t_warm);
@@ -420,7 +420,7 @@ TEST_CASE(
   }
   NeighbourCache cache;
   AssociationTable table;
-  scene.size(twice.size(), &cache, &table);
+  scene.resize(twice.size(), &cache, &table);
   ppcr::detail::associate_cached(lattice.tree, lattice.target, twice, at(0.5), radius, 1, &cache,
                                  &table);
   REQUIRE(cache.last_queries == twice.size());
