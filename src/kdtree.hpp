@@ -19,12 +19,12 @@ namespace detail {
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
 /// (neighbour_cache.cpp) call it, and the k-d tree's leaves (kdtree.cpp) call its form that takes
 /// b's coordinates apart, on x, y and z arrays (vectorisable), so that a query's distances and a
-/// cached candidate's are computed alike. Where the compiler fuses multiply-adds it fuses both the
-/// same way (GCC 12 -O3 -march=haswell: the tests below passed on such a build of 27eb01e, which
-/// wrote the expression out in the leaf loop); C++ does not guarantee that (not under
-/// -ffast-math, for one). Tests with == on the build at hand: tests/core/test_kdtree.cpp (the tree
-/// against this function) and tests/core/test_neighbour_cache.cpp (queried rows against re-ranked
-/// ones).
+/// cached candidate's are computed alike. Our targets are compiled with -ffp-contract=off
+/// (CMakeLists.txt), so the expression rounds as written wherever it is inlined, with or without
+/// fused multiply-adds in the instruction set (GCC 12 -O3 -march=haswell: every test passes);
+/// C++ itself does not promise that (not under -ffast-math, for one). Tests with == on the build
+/// at hand: tests/core/test_kdtree.cpp (the tree against this function) and
+/// tests/core/test_neighbour_cache.cpp (queried rows against re-ranked ones).
 inline double squared_distance(const double* a, double bx, double by, double bz) {
   const double dx = a[0] - bx, dy = a[1] - by, dz = a[2] - bz;
   return dx * dx + dy * dy + dz * dz;
@@ -49,8 +49,9 @@ class KdTree {
   /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to
   /// its cell exceeds radius_sq: kdtree_nanoflann.hpp), sorted by increasing distance; writes
   /// indices[0..n), dist_sq[0..n) and returns n. The same result as nanoflann's own search
-  /// (without FMA contraction: where the compiler fuses multiply-adds, nanoflann's distance and
-  /// ours can round apart, and a point at the radius be kept by one and not the other).
+  /// when both are compiled without contraction into fused multiply-adds, as our targets are
+  /// (-ffp-contract=off): otherwise nanoflann's distance and ours can round apart, and a point at
+  /// the radius be kept by one and not the other.
   /// Allocation-free. Thread-safe (const).
   int radius_knn(const Eigen::Vector3d& query, int k, double radius_sq, std::uint32_t* indices,
                  double* dist_sq) const;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian 12 machine: installs what is missing, configures,
 # builds and runs every test. `.ci/run` calls exactly this.
-#   tools/test.sh            the default stages: release, sanitize, fuzz
-#   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz)
+#   tools/test.sh            the default stages: release, sanitize, fuzz, fma
+#   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz, fma)
 #   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
 #                                                      nanoflann (downloads it; not a default)
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
@@ -11,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 "$root/tools/install_deps.sh"
 jobs=${PPCR_JOBS:-2}
-stages=${PPCR_TEST_STAGES:-release sanitize fuzz}
+stages=${PPCR_TEST_STAGES:-release sanitize fuzz fma}
 
 # build_and_test DIR BUILD_TYPE [cmake arguments...]: configures the tests and tools in DIR,
 # builds them and runs every test.
@@ -45,6 +45,16 @@ for stage in $stages; do
         exit 1
       fi
       ;;
+    fma)
+      # The release build with fused multiply-adds in the instruction set (-march=haswell), where
+      # the CPU runs it: the exact equalities must hold there too (docs/RELIABILITY.md, F7).
+      if grep -qw fma /proc/cpuinfo 2>/dev/null && grep -qw avx2 /proc/cpuinfo; then
+        echo "== fma: build with -march=haswell and run all tests"
+        build_and_test build/test-fma Release -DCMAKE_CXX_FLAGS=-march=haswell
+      else
+        echo "== fma: skipped, this CPU has no FMA and AVX2 (/proc/cpuinfo)"
+      fi
+      ;;
     nanoflann-next)
       # Not in the default stages (it downloads): the release build against Debian 13's
       # nanoflann (1.7.1 when written), unpacked under build/, instead of the system's 1.4.3.
@@ -70,7 +80,7 @@ for stage in $stages; do
       fi
       ;;
     *)
-      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz, nanoflann-next)" >&2
+      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz, fma, nanoflann-next)" >&2
       exit 2
       ;;
   esac
