@@ -71,8 +71,8 @@ struct KdTree::Impl {
       // whole leaf at once, in two branch-free steps: the distances of the leaf's points
       // (squared_distance on the coordinate arrays; vectorisable, GCC -O3: two lanes with
       // SSE2), then the list of the points nearer than the bound at the chunk's start, in leaf
-      // order. Then each of those, checked against the current bound, is
-      // inserted. The bound only shrinks: the same points in the same order as nanoflann's loop.
+      // order. Then each of those, checked against the current bound, is inserted. The bound
+      // only shrinks: the same points in the same order as nanoflann's loop.
       const std::uint32_t end = node->axis & ~kLeaf;
       const std::size_t n = index.size();
       const double* x = xyz.data();

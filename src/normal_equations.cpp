@@ -189,8 +189,9 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         // The sums are kept in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for
         // two). Each lane does one sum's scalar operations in the scalar order (n . e as
         // (x + y) + z), so every sum is the same to the bit as when written one by one (our
-        // targets are compiled with -ffp-contract=off: no a * b + c is fused into a
-        // multiply-add, so this holds on AArch64 or with -march=native too).
+        // targets are compiled with -ffp-contract=off, so no a * b + c is fused into a
+        // multiply-add where the instruction set has one: tested with -march=haswell, the fma
+        // stage of tools/test.sh; AArch64 not built).
         Eigen::Array2d AU = Eigen::Array2d::Zero();       // (A, U): sum u a, sum u
         Eigen::Array2d n00_n11 = Eigen::Array2d::Zero();  // (N_00, N_11)
         Eigen::Array2d n01_n12 = Eigen::Array2d::Zero();  // (N_01, N_12)
