@@ -4,6 +4,7 @@
 #include "parallel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 void AssociationTable::resize(std::size_t source_points, int neighbours) {
@@ -38,4 +39,5 @@ void associate(const KdTree& target_tree, const PointCloud& source,
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -7,9 +7,11 @@
 #include <vector>
 
 #include "kdtree.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// Slot m < count[j] of source point j holds its m-th nearest target point within the radius:
@@ -37,4 +39,5 @@ void associate(const KdTree& target_tree, const PointCloud& source,
                AssociationTable* table);
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -10,6 +10,7 @@
 #include "kdtree_nanoflann.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
@@ -188,4 +189,5 @@ std::size_t KdTree::size() const { return impl_->index.size(); }
 const std::vector<std::uint32_t>& KdTree::leaf_order() const { return impl_->index; }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

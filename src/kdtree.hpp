@@ -10,10 +10,12 @@
 #include <memory>
 #include <vector>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
@@ -68,4 +70,5 @@ class KdTree {
 };
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -11,11 +11,13 @@
 #include <nanoflann.hpp>
 #include <vector>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 static_assert(NANOFLANN_VERSION >= 0x140, "ppcr needs nanoflann 1.4 or newer (NANOFLANN_VERSION)");
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 // nanoflann's dataset adaptor over a std::vector<Eigen::Vector3d>.
@@ -116,4 +118,5 @@ inline nanoflann::SearchParams exact_sorted_search() {
 #endif
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

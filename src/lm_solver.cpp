@@ -9,6 +9,7 @@
 #include "ppcr/se3.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 void LMSolver::resize(std::size_t source_points, int k) {
@@ -141,4 +142,5 @@ const char* to_string(LMTermination t) {
   return "unknown";
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

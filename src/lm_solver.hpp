@@ -7,9 +7,11 @@
 
 #include "association.hpp"
 #include "normal_equations.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/lm.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 struct LMProblem {
@@ -50,4 +52,5 @@ class LMSolver {
 };
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

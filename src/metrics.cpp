@@ -6,6 +6,7 @@
 #include "ppcr/se3.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 CloudMoments compute_moments(const PointCloud& cloud) {
   CloudMoments m;
@@ -60,4 +61,5 @@ double benchmark_error(const PointCloud& source, const Eigen::Isometry3d& T_gt,
   return used > 0 ? total / static_cast<double>(used) : 0.0;
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -9,6 +9,7 @@
 #include "parallel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
@@ -270,4 +271,5 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

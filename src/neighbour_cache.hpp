@@ -69,9 +69,11 @@
 
 #include "association.hpp"
 #include "kdtree.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 struct NeighbourCache {
@@ -142,4 +144,5 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
                       NeighbourCache* cache, AssociationTable* table);
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -11,6 +11,7 @@
 #include "weight_kernel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
@@ -346,4 +347,5 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

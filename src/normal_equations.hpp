@@ -28,9 +28,11 @@
 #include <vector>
 
 #include "association.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/weights.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
@@ -131,4 +133,5 @@ class NormalEquations {
 };
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -4,6 +4,7 @@
 #include "parallel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 void compute_pair_normals(const AssociationTable& assoc,
@@ -33,4 +34,5 @@ void compute_pair_normals(const AssociationTable& assoc,
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -7,8 +7,10 @@
 
 #include "association.hpp"
 #include "normal_equations.hpp"
+#include "ppcr/abi.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// For every association slot (j, m) of the table (stride assoc.k), the normal of the pair
@@ -27,4 +29,5 @@ void compute_pair_normals(const AssociationTable& assoc,
                           std::vector<Eigen::Vector3d>* pair_normals);
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -13,7 +13,10 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 template <class F>
@@ -33,4 +36,5 @@ void parallel_for(int num_threads, std::ptrdiff_t n, F&& f) {
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -29,6 +29,7 @@
 #include "target_normals.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace {
 
 std::string num(double v) {
@@ -582,4 +583,5 @@ RegistrationResult align(const PointCloud& source, const PointCloud& target,
   return registration.align(source, T_initial, T_ground_truth);
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

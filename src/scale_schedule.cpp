@@ -5,6 +5,7 @@
 #include <cmath>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 ScaleSchedule::ScaleSchedule(const WeightOptions& options, double radius)
@@ -45,4 +46,5 @@ void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -2,9 +2,11 @@
 // coarse-to-fine EM schedule documented in ppcr/weights.hpp).
 #pragma once
 
+#include "ppcr/abi.hpp"
 #include "ppcr/weights.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 class ScaleSchedule {
@@ -36,4 +38,5 @@ class ScaleSchedule {
 };
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

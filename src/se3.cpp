@@ -6,6 +6,7 @@
 #include <cmath>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace se3 {
 namespace {
 
@@ -155,4 +156,5 @@ bool is_rigid(const Eigen::Matrix4d& T, double tol) {
 }
 
 }  // namespace se3
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -7,6 +7,7 @@
 #include <limits>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
@@ -81,4 +82,5 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -16,9 +16,11 @@
 #include <utility>
 #include <vector>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// The buffer of spatial_sort (16 B per point), kept between calls so that a cloud of the same
@@ -35,4 +37,5 @@ struct SpatialSortScratch {
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -2,6 +2,7 @@
 #include "ppcr/status.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 const char* to_string(StatusCode code) {
   switch (code) {
@@ -28,4 +29,5 @@ std::string Status::to_string() const {
   return std::string(ppcr::to_string(code_)) + ": " + message_;
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

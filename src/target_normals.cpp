@@ -10,6 +10,7 @@
 #include "parallel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
@@ -69,4 +70,5 @@ double surface_noise(const std::vector<double>& spread, std::vector<double>* scr
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,9 +6,11 @@
 #include <vector>
 
 #include "kdtree.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// Fits a plane (PCA: the eigenvector of the smallest eigenvalue of the neighbourhood's
@@ -27,4 +29,5 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
 double surface_noise(const std::vector<double>& spread, std::vector<double>* scratch);
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include <limits>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 const char* to_string(StopReason reason) {
   switch (reason) {
@@ -105,4 +106,5 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
   return StopReason::kNone;
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

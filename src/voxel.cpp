@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* out) {
   if (!(std::isfinite(leaf_size) && leaf_size > 0.0)) {
@@ -68,4 +69,5 @@ Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* o
   return Status::Ok();
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -28,9 +28,11 @@
 #include <cstddef>
 #include <limits>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/weights.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// Unnormalised weights of one point: u[k] and the factor c with w_k = c * u_k.
@@ -173,4 +175,5 @@ void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& 
 }
 
 }  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include "weight_kernel.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 // Every z_k = r_k / s^2 is +inf, so z_k >> nu and the ratios of the z_k are those of the r_k.
@@ -60,4 +61,5 @@ double compute_weights(WeightModel model, double dof, double inv_scale_sq, const
   return log_sum_exp;
 }
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -35,7 +35,10 @@
 //  with dof 1.25 and source normals both sets' medians are below every peer's.
 #pragma once
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 enum class ErrorModel {
   kPoint,  // point-to-point (paper eq. 1)
@@ -59,4 +62,5 @@ struct PlaneOptions {
                                     // scales
 };
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

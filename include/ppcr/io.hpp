@@ -9,10 +9,12 @@
 #include <cstddef>
 #include <string>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 
 enum class Format { kAuto, kPly, kPcd, kXyz };
@@ -80,4 +82,5 @@ Status write_transform(const std::string& path, const Eigen::Isometry3d& T);
 const char* to_string(Format format);
 
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -12,7 +12,10 @@
 // that step.
 #pragma once
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 struct LMOptions {
   int max_iterations = 50;            // LM iterations (accepted + rejected steps) per inner problem
@@ -66,4 +69,5 @@ struct LMSummary {
   LMTermination termination = LMTermination::kMaxIterations;
 };
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

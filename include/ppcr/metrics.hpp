@@ -5,9 +5,11 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 /// First and second moments of a cloud: enough to evaluate mean |A x - B x|^2 in O(1).
 struct CloudMoments {
@@ -36,4 +38,5 @@ double translation_error(const Eigen::Isometry3d& T_est, const Eigen::Isometry3d
 double benchmark_error(const PointCloud& source, const Eigen::Isometry3d& T_gt,
                        const Eigen::Isometry3d& T_est);
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/error_model.hpp"
 #include "ppcr/lm.hpp"
 #include "ppcr/status.hpp"
@@ -24,6 +25,7 @@
 #include "ppcr/weights.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 struct RegistrationOptions {
   double radius = 1.0;      // association radius, cloud units (> 0): target points farther
@@ -156,4 +158,5 @@ RegistrationResult align(const PointCloud& source, const PointCloud& target,
                          const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity(),
                          const Eigen::Isometry3d* T_ground_truth = nullptr);
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

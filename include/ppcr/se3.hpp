@@ -11,7 +11,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace se3 {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
@@ -49,4 +52,5 @@ Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& T);
 bool is_rigid(const Eigen::Matrix4d& T, double tol = 1e-6);
 
 }  // namespace se3
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -8,7 +8,10 @@
 #include <string>
 #include <utility>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 enum class StatusCode {
   kOk = 0,
@@ -42,4 +45,5 @@ class Status {
   std::string message_;
 };
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

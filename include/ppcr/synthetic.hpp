@@ -24,10 +24,12 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 
 enum class SceneKind {
@@ -123,4 +125,5 @@ struct SurfaceSampleOptions {
 Status sample_surface(const SurfaceSampleOptions& options, PointCloud* out);
 
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -36,9 +36,11 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/lm.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 enum Criterion : std::uint32_t {
   kCriterionFixed = 1u << 0,
@@ -94,11 +96,13 @@ struct IterationReport {
                                   // adaptive criteria neither count nor fire this iteration
 };
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr
 
 #include "ppcr/metrics.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 /// The termination monitor: one per registration, fed once per outer iteration.
 class TerminationMonitor {
@@ -128,4 +132,5 @@ class TerminationMonitor {
   int low_steps_count_ = 0;
 };
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -1,10 +1,12 @@
 // voxel.hpp - voxel-grid downsampling (the preprocessing of the authors' tool, PCL's VoxelGrid).
 #pragma once
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 /// Replaces the points of each occupied cubic voxel of side leaf_size (cloud units, > 0) by their
 /// centroid. Voxels are aligned to the cloud's minimum corner; the output lists voxels in the order
@@ -13,4 +15,5 @@ namespace ppcr {
 /// the grid would exceed 2^21 cells along an axis (cell indices are floor((p - min) * (1 / leaf))).
 Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* out);
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -18,7 +18,10 @@
 
 #include <cstddef>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 
 enum class WeightModel {
   kStudentT,  // paper eq. 3-4 (default)
@@ -71,4 +74,5 @@ struct WeightOptions {
 double compute_weights(WeightModel model, double dof, double inv_scale_sq, const double* r_sq,
                        std::size_t n, double* w);
 
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include <system_error>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -133,4 +134,5 @@ Status FileWriter::finish() {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

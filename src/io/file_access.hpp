@@ -7,9 +7,11 @@
 #include <string>
 #include <string_view>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -45,4 +47,5 @@ class FileWriter {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include "text_scan.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -67,4 +68,5 @@ Format format_from_content(const char* data, std::size_t size) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,10 +6,12 @@
 
 #include <string>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/io.hpp"
 #include "reader_common.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -29,4 +31,5 @@ Format format_from_content(const char* data, std::size_t size);
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

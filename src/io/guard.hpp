@@ -5,9 +5,11 @@
 #include <new>
 #include <string>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -36,4 +38,5 @@ Status guarded(const std::string& name, Body&& body) noexcept {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -11,6 +11,7 @@
 #include "text_scan.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace {
 
@@ -116,4 +117,5 @@ Status write_cloud(const std::string& path, const PointCloud& cloud, Format form
 }
 
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

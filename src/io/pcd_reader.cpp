@@ -24,6 +24,7 @@
 #include "text_scan.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -568,4 +569,5 @@ Status read_pcd(const Input& in, PointCloud* cloud, ReadReport* report) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

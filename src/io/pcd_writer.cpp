@@ -8,6 +8,7 @@
 #include "writer_common.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -45,4 +46,5 @@ Status write_pcd(const std::string& path, const PointCloud& cloud) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -15,6 +15,7 @@
 #include "text_scan.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -500,4 +501,5 @@ Status read_ply(const Input& in, PointCloud* cloud, ReadReport* report) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

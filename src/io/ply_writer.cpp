@@ -8,6 +8,7 @@
 #include "writer_common.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -39,4 +40,5 @@ Status write_ply(const std::string& path, const PointCloud& cloud) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

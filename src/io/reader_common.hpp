@@ -7,11 +7,13 @@
 #include <cstdint>
 #include <string>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -80,4 +82,5 @@ inline bool checked_add(std::uint64_t a, std::uint64_t b, std::uint64_t* sum) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

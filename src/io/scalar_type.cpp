@@ -5,6 +5,7 @@
 #include <limits>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -238,4 +239,5 @@ std::int64_t load_integer(ScalarType type, ByteOrder order, const unsigned char*
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <string_view>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -49,4 +52,5 @@ std::int64_t load_integer(ScalarType type, ByteOrder order, const unsigned char*
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include <system_error>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -106,4 +107,5 @@ std::string escape_for_message(std::string_view bytes, std::size_t max_chars) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

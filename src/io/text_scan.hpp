@@ -10,7 +10,10 @@
 #include <string>
 #include <string_view>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -85,4 +88,5 @@ std::string escape_for_message(std::string_view bytes, std::size_t max_chars = 4
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -12,6 +12,7 @@
 #include "writer_common.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace {
 
@@ -171,4 +172,5 @@ Status write_transform(const std::string& path, const Eigen::Isometry3d& T) {
 }
 
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,10 +6,12 @@
 #include <cstddef>
 #include <string>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -39,4 +41,5 @@ inline std::size_t format_double(double value, char* out) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -15,6 +15,7 @@
 #include "text_scan.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 namespace {
@@ -177,4 +178,5 @@ Status read_xyz(const Input& in, PointCloud* cloud, ReadReport* report) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -7,6 +7,7 @@
 #include "writer_common.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace detail {
 
@@ -30,4 +31,5 @@ Status write_xyz(const std::string& path, const PointCloud& cloud) {
 
 }  // namespace detail
 }  // namespace io
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -4,6 +4,7 @@
 #include <numeric>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -81,4 +82,5 @@ bool Bvh::meets(const Eigen::AlignedBox3d& box, const Ray& ray, const Eigen::Vec
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

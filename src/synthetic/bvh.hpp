@@ -9,9 +9,11 @@
 #include <utility>
 #include <vector>
 
+#include "ppcr/abi.hpp"
 #include "primitives.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -82,4 +84,5 @@ class Bvh {
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

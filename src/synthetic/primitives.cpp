@@ -7,6 +7,7 @@
 #include <utility>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 namespace {
@@ -196,4 +197,5 @@ double area(const Cylinder& cylinder) {
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,7 +6,10 @@
 #include <Eigen/Geometry>
 #include <limits>
 
+#include "ppcr/abi.hpp"
+
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -77,4 +80,5 @@ double area(const Cylinder& cylinder);
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -11,6 +11,7 @@
 #include "scene.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 namespace {
@@ -138,4 +139,5 @@ Scene make_room(std::uint64_t seed) {
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -12,6 +12,7 @@
 #include "scene.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace {
 
@@ -201,4 +202,5 @@ Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
 }
 
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -6,6 +6,7 @@
 #include <vector>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -48,4 +49,5 @@ void scan(const Scene& scene, const SensorModel& sensor, const Eigen::Isometry3d
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -3,12 +3,14 @@
 
 #include <Eigen/Geometry>
 
+#include "ppcr/abi.hpp"
 #include "ppcr/synthetic.hpp"
 #include "ppcr/types.hpp"
 #include "random.hpp"
 #include "scene.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -22,4 +24,5 @@ void scan(const Scene& scene, const SensorModel& sensor, const Eigen::Isometry3d
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -7,6 +7,7 @@
 #include <vector>
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -81,4 +82,5 @@ double max_translation_m(SceneKind kind) {
 }
 
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

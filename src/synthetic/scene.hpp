@@ -8,10 +8,12 @@
 #include <vector>
 
 #include "bvh.hpp"
+#include "ppcr/abi.hpp"
 #include "ppcr/synthetic.hpp"
 #include "primitives.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 
@@ -50,4 +52,5 @@ constexpr double kStreetMaxTranslation = 30.0;  // metres
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -14,6 +14,7 @@
 #include "scene.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
 namespace {
@@ -120,4 +121,5 @@ Scene make_street(std::uint64_t seed) {
 
 }  // namespace internal
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -11,6 +11,7 @@
 #include "scene.hpp"
 
 namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace {
 
@@ -172,4 +173,5 @@ Status sample_surface(const SurfaceSampleOptions& options, PointCloud* out) {
 }
 
 }  // namespace synthetic
+}  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr
