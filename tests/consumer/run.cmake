@@ -28,36 +28,64 @@ foreach(mode package subdirectory)
   run(${WORK_DIR}/${mode}/consumer)
 endforeach()
 
-# A consumer compiled with another Eigen layout than the library (include/ppcr/abi.hpp) must fail
-# to link, with an undefined reference in its own ABI namespace, instead of linking and reading
-# the library's structs at the wrong offsets (docs/RELIABILITY.md, F7: at 3c0bad5 such a consumer
-# crashed). The other layout: AVX's 32-byte alignment (-mavx, F7's case) on an x86-64 host when
-# this build sets no instruction set; else static alignment off (EIGEN_MAX_STATIC_ALIGN_BYTES=0,
-# which Eigen accepts on any target), or 16 bytes if this build has it off already.
+# A consumer compiled with another Eigen alignment than the library (include/ppcr/abi.hpp) must
+# fail to link, with an undefined reference in another ABI namespace than the library's, instead
+# of linking and reading the library's structs at the wrong offsets (docs/RELIABILITY.md, F7).
+# The library's namespace is read off the installed archive (its mangled names), so the test
+# does not guess it from the flags. The other alignment: static alignment off
+# (-DEIGEN_MAX_STATIC_ALIGN_BYTES=0, which Eigen accepts on any target) and, with GCC or Clang on
+# an x86-64 host when the library has Eigen's default x86-64 alignment (16) and CXX_FLAGS set
+# neither an instruction set nor an EIGEN_ macro, also -mavx (32: F7's case).
+file(GLOB ppcr_archives ${WORK_DIR}/prefix/lib*/libppcr.a ${WORK_DIR}/prefix/lib*/libppcr.so)
+list(GET ppcr_archives 0 ppcr_archive)
+# In a mangled name the namespace is followed by the next name's length ("...heap166detail"), so
+# the values are matched as Eigen's possible ones, not as any digits.
+set(align_value "(0|8|16|32|64)")
+file(STRINGS ${ppcr_archive} abi_strings REGEX "eigen_align[0-9]+_heap[0-9]+")
+string(REGEX MATCH "eigen_align${align_value}_heap${align_value}" library_abi "${abi_strings}")
+if(NOT library_abi)
+  message(FATAL_ERROR "no eigen_align<N>_heap<N> namespace in the symbols of ${ppcr_archive}")
+endif()
+set(library_static_align ${CMAKE_MATCH_1})
+set(other_flags "")
+if(NOT library_static_align STREQUAL "0")
+  list(APPEND other_flags -DEIGEN_MAX_STATIC_ALIGN_BYTES=0)
+endif()
 cmake_host_system_information(RESULT host_platform QUERY OS_PLATFORM)  # x86_64, aarch64, ...
-if(host_platform MATCHES "x86_64|AMD64" AND NOT CXX_FLAGS MATCHES "-march|-mavx")
-  set(other_flag -mavx)
-  set(other 32)
-elseif(CXX_FLAGS MATCHES "EIGEN_MAX_STATIC_ALIGN_BYTES=0|EIGEN_DONT_ALIGN")
-  set(other_flag -DEIGEN_MAX_STATIC_ALIGN_BYTES=16)
-  set(other 16)
-else()
-  set(other_flag -DEIGEN_MAX_STATIC_ALIGN_BYTES=0)
-  set(other 0)
+if(library_abi STREQUAL "eigen_align16_heap16" AND host_platform MATCHES "x86_64|AMD64" AND
+   NOT CXX_FLAGS MATCHES "EIGEN_|-m|/arch" AND
+   CXX_COMPILER MATCHES "(g\\+\\+|clang\\+\\+|c\\+\\+)[^/]*$")
+  list(APPEND other_flags -mavx)
 endif()
-run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/mismatch
-    -DCONSUMER_MODE=package ${nanoflann_args} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
-    -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
-    "-DCMAKE_CXX_FLAGS=${CXX_FLAGS} ${other_flag}")
-execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/mismatch RESULT_VARIABLE rc
-                OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc EQUAL 0)
-  message(FATAL_ERROR "a consumer compiled with ${other_flag} linked against the library built "
-                      "with CMAKE_CXX_FLAGS '${CXX_FLAGS}': the ABI namespace "
-                      "(include/ppcr/abi.hpp) did not keep them apart")
+if(NOT other_flags)
+  message(STATUS "mismatched consumer not built: the library's ${library_abi} leaves no other "
+                 "layout this test knows how to make")
 endif()
-if(NOT "${out}${err}" MATCHES "undefined reference to [^\n]*ppcr::eigen_align_${other}::")
-  message(FATAL_ERROR "the consumer compiled with ${other_flag} failed to build, but not with an "
-                      "undefined reference to ppcr::eigen_align_${other}::...:\n${out}\n${err}")
-endif()
-message(STATUS "consumer compiled with ${other_flag} refused at link time (ppcr::eigen_align_${other})")
+foreach(other_flag ${other_flags})
+  string(MAKE_C_IDENTIFIER "mismatch${other_flag}" dir)
+  run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${dir}
+      -DCONSUMER_MODE=package ${nanoflann_args} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
+      -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+      "-DCMAKE_CXX_FLAGS=${CXX_FLAGS} ${other_flag}")
+  execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/${dir} RESULT_VARIABLE rc
+                  OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0)
+    message(FATAL_ERROR "a consumer compiled with ${other_flag} linked against the library "
+                        "(${library_abi}, CMAKE_CXX_FLAGS '${CXX_FLAGS}'): the ABI namespace "
+                        "(include/ppcr/abi.hpp) did not keep them apart")
+  endif()
+  # GNU ld and gold: "undefined reference to"; lld and mold: "undefined symbol"; Apple's ld:
+  # "Undefined symbols"; MSVC: "unresolved external symbol".
+  set(unresolved "undefined reference to|undefined symbol|Undefined symbols|unresolved external")
+  # The consumer's namespace, in the linker's demangled message.
+  string(REGEX MATCH "ppcr::(eigen_align[0-9]+_heap[0-9]+)::" consumer_abi "${out}${err}")
+  set(consumer_abi "${CMAKE_MATCH_1}")
+  if(NOT "${out}${err}" MATCHES "${unresolved}" OR NOT consumer_abi OR
+     consumer_abi STREQUAL library_abi)
+    message(FATAL_ERROR "the consumer compiled with ${other_flag} failed to build, but not with "
+                        "an unresolved symbol in another namespace than the library's "
+                        "ppcr::${library_abi}:\n${out}\n${err}")
+  endif()
+  message(STATUS "consumer compiled with ${other_flag} refused at link time: it asks for "
+                 "ppcr::${consumer_abi}, the library has ppcr::${library_abi}")
+endforeach()
