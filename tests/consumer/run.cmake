@@ -37,6 +37,9 @@ endforeach()
 # an x86-64 host when the library has Eigen's default x86-64 alignment (16) and CXX_FLAGS set
 # neither an instruction set nor an EIGEN_ macro, also -mavx (32: F7's case).
 file(GLOB ppcr_archives ${WORK_DIR}/prefix/lib*/libppcr.a ${WORK_DIR}/prefix/lib*/libppcr.so)
+if(NOT ppcr_archives)
+  message(FATAL_ERROR "no libppcr.a or libppcr.so under ${WORK_DIR}/prefix/lib*")
+endif()
 list(GET ppcr_archives 0 ppcr_archive)
 # In a mangled name the namespace is followed by the next name's length ("...heap166detail"), so
 # the values are matched as Eigen's possible ones, not as any digits.
@@ -61,6 +64,9 @@ if(NOT other_flags)
   message(STATUS "mismatched consumer not built: the library's ${library_abi} leaves no other "
                  "layout this test knows how to make")
 endif()
+# GNU ld and gold: "undefined reference to"; lld and mold: "undefined symbol"; Apple's ld:
+# "Undefined symbols"; MSVC: "unresolved external symbol".
+set(unresolved "undefined reference to|undefined symbol|Undefined symbols|unresolved external")
 foreach(other_flag ${other_flags})
   string(MAKE_C_IDENTIFIER "mismatch${other_flag}" dir)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${dir}
@@ -74,9 +80,6 @@ foreach(other_flag ${other_flags})
                         "(${library_abi}, CMAKE_CXX_FLAGS '${CXX_FLAGS}'): the ABI namespace "
                         "(include/ppcr/abi.hpp) did not keep them apart")
   endif()
-  # GNU ld and gold: "undefined reference to"; lld and mold: "undefined symbol"; Apple's ld:
-  # "Undefined symbols"; MSVC: "unresolved external symbol".
-  set(unresolved "undefined reference to|undefined symbol|Undefined symbols|unresolved external")
   # The consumer's namespace, in the linker's demangled message.
   string(REGEX MATCH "ppcr::(eigen_align[0-9]+_heap[0-9]+)::" consumer_abi "${out}${err}")
   set(consumer_abi "${CMAKE_MATCH_1}")
