@@ -19,6 +19,7 @@
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
 #include "ppcr/weights.hpp"
+#include "spatial_order.hpp"
 #include "target_normals.hpp"
 
 namespace {
@@ -144,8 +145,16 @@ void BM_EStepOnePoint(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kNeighbours);
 }
 
+// The pass's inputs: clouds in sampling order (random) or, as a registration keeps them, both in
+// Z-order (spatial_order.hpp), and the association at the identity.
 struct Fixture {
-  explicit Fixture(std::size_t n) : target(surface(n, 1)), source(surface(n, 2)) {
+  explicit Fixture(std::size_t n, bool z_order = false)
+      : target(surface(n, 1)), source(surface(n, 2)) {
+    if (z_order) {
+      ppcr::detail::SpatialSortScratch scratch;
+      ppcr::detail::spatial_sort(&target, nullptr, &scratch);
+      ppcr::detail::spatial_sort(&source, nullptr, &scratch);
+    }
     (void)tree.build(target);
     table.resize(n, kNeighbours);
     ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), kRadius * kRadius, 1,
@@ -162,8 +171,9 @@ struct Fixture {
   ppcr::detail::NormalEquations ne;
 };
 
+// Arguments: source points, threads, clouds in Z-order (1) or in sampling order (0).
 void BM_NormalEquations(benchmark::State& state) {
-  Fixture f(static_cast<std::size_t>(state.range(0)));
+  Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
   const int threads = static_cast<int>(state.range(1));
   ppcr::detail::WeightParams wp;
   wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
@@ -179,7 +189,7 @@ void BM_NormalEquations(benchmark::State& state) {
 
 // The plane model's pass: Omega_k = n_k n_k^T + 0.05 I from the target's 20-neighbour normals.
 void BM_NormalEquationsPlane(benchmark::State& state) {
-  Fixture f(static_cast<std::size_t>(state.range(0)));
+  Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
   const int threads = static_cast<int>(state.range(1));
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &normals);
@@ -249,10 +259,17 @@ BENCHMARK(BM_AssociateCached)
     ->Args({10000, 8, 1000})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EStepOnePoint);
-BENCHMARK(BM_NormalEquations)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NormalEquations)
+    ->Args({10000, 1, 0})
+    ->Args({10000, 1, 1})
+    ->Args({10000, 2, 0})
+    ->Args({10000, 2, 1})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalEquationsPlane)
-    ->Args({10000, 1})
-    ->Args({10000, 2})
+    ->Args({10000, 1, 0})
+    ->Args({10000, 1, 1})
+    ->Args({10000, 2, 0})
+    ->Args({10000, 2, 1})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Registration)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);

@@ -43,6 +43,13 @@ struct KdTree::Impl {
   std::vector<std::uint32_t> index;                        // its index in the cloud
   double box_low[3] = {0, 0, 0}, box_high[3] = {0, 0, 0};  // the cloud's bounding box
 
+  // Nodes of nanoflann's (sub)tree at node: flatten's count, so that `nodes` is sized once.
+  template <class Node>
+  static std::size_t count_nodes(const Node* node) {
+    if (node->child1 == nullptr && node->child2 == nullptr) return 1;
+    return 1 + count_nodes(node->child1) + count_nodes(node->child2);
+  }
+
   template <class Node>
   std::uint32_t flatten(const Node* node) {
     const std::uint32_t me = static_cast<std::uint32_t>(nodes.size());
@@ -157,8 +164,8 @@ Status KdTree::build(const PointCloud& points) {
       for (int a = 0; a < 3; ++a)
         m.xyz[static_cast<std::size_t>(a) * n + i] = points[m.index[i]][a];
     }
+    m.nodes.reserve(Impl::count_nodes(tree_root(tree)));  // one allocation, no growth
     m.flatten(tree_root(tree));
-    m.nodes.shrink_to_fit();
   } catch (const std::bad_alloc&) {
     m = Impl();
     return Status(StatusCode::kInvalidArgument, "out of memory building the k-d tree over " +
