@@ -215,8 +215,9 @@ Status validate(const RegistrationOptions& o) {
   if (!non_negative(lm.function_tolerance)) {
     return invalid("lm.function_tolerance must be >= 0, got " + num(lm.function_tolerance));
   }
-  if (!non_negative(lm.fine_function_tolerance)) {
-    return invalid("lm.fine_function_tolerance must be >= 0, got " +
+  if (!(lm.fine_function_tolerance == LMOptions::kAutomatic ||
+        non_negative(lm.fine_function_tolerance))) {
+    return invalid("lm.fine_function_tolerance must be >= 0 or LMOptions::kAutomatic (-1), got " +
                    num(lm.fine_function_tolerance));
   }
   if (!non_negative(lm.gradient_tolerance)) {
@@ -427,6 +428,19 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     weights.em_min_scale = std::max(weights.em_min_scale, noise_floor);
   }
   detail::ScaleSchedule scale(weights, reference_length);
+  // The inner tolerance of the EM fine phase (lm.hpp). kAutomatic: with the plane model and the
+  // cost-drop criterion alone (the defaults), 1e-2 capped at the cost-drop threshold (an
+  // unevaluated last step reads as a drop of 0, so it counts as low only if predicted below the
+  // threshold); otherwise off. The other criteria read what one-step solves change: mse-prev
+  // the motion per outer iteration, successful-steps the steps per solve.
+  double fine_tolerance = o.lm.fine_function_tolerance;
+  if (fine_tolerance == LMOptions::kAutomatic) {
+    const bool cost_drop_alone = o.termination.criteria == kCriterionCostDrop;
+    fine_tolerance =
+        o.error_model == ErrorModel::kPlane && cost_drop_alone
+            ? std::min(LMOptions::kPlaneFineTolerance, o.termination.cost_drop_threshold)
+            : 0.0;
+  }
   const double radius_sq = o.radius * o.radius;
 
   using Clock = std::chrono::steady_clock;
@@ -483,9 +497,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
 
     // EM fine phase: the looser inner tolerance, if set (lm.hpp).
     LMOptions lm_options = o.lm;
-    if (o.lm.fine_function_tolerance > 0.0 && o.weights.scale_mode == ScaleMode::kEM &&
-        !scale.coarse()) {
-      lm_options.function_tolerance = o.lm.fine_function_tolerance;
+    if (fine_tolerance > 0.0 && o.weights.scale_mode == ScaleMode::kEM && !scale.coarse()) {
+      lm_options.function_tolerance = fine_tolerance;
     }
     const LMSummary lm = m.lm.solve(lm_options, problem, &T);
     result.lm_iterations += lm.iterations;

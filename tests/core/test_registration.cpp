@@ -215,9 +215,9 @@ std::vector<BadOption> bad_options_vague_message() {
       {"lm.function_tolerance -1",
        [](O& o) { o.lm.function_tolerance = -1.0; },
        {"function_tolerance", "-1"}},
-      {"lm.fine_function_tolerance -1",
-       [](O& o) { o.lm.fine_function_tolerance = -1.0; },
-       {"fine_function_tolerance", "-1"}},
+      {"lm.fine_function_tolerance -0.5",
+       [](O& o) { o.lm.fine_function_tolerance = -0.5; },
+       {"fine_function_tolerance", "-0.5"}},
       {"lm.fine_function_tolerance NaN",
        [](O& o) { o.lm.fine_function_tolerance = kNaN; },
        {"fine_function_tolerance", "nan"}},
@@ -857,6 +857,7 @@ TEST_CASE("lm.fine_function_tolerance loosens the inner solves of the EM fine ph
   const Scene sc = make_scene(3000, 20000, false);
   RegistrationOptions o = scene_options();
   o.error_model = ppcr::ErrorModel::kPlane;
+  o.lm.fine_function_tolerance = 0.0;
   const RegistrationResult tight = ppcr::align(sc.source, sc.target, o);
   o.lm.fine_function_tolerance = 1e-2;
   const RegistrationResult loose = ppcr::align(sc.source, sc.target, o);
@@ -907,6 +908,57 @@ TEST_CASE("lm.fine_function_tolerance loosens the inner solves of the EM fine ph
   REQUIRE(fixed_tight.status.ok());
   CHECK(fixed_loose.lm_iterations == fixed_tight.lm_iterations);
   CHECK(fixed_loose.T_target_source.matrix() == fixed_tight.T_target_source.matrix());
+}
+
+TEST_CASE(
+    "the automatic fine tolerance is 1e-2 capped at the cost-drop threshold with the plane "
+    "model, and off with the point model",
+    "[registration]") {
+  const Scene sc = make_scene(3000, 20000, false);
+  auto pose_with = [&](ppcr::ErrorModel model, double fine, double cost_drop_threshold,
+                       std::uint32_t criteria = ppcr::kCriterionCostDrop) {
+    RegistrationOptions o = scene_options();
+    o.error_model = model;
+    o.lm.fine_function_tolerance = fine;
+    o.termination.cost_drop_threshold = cost_drop_threshold;
+    o.termination.criteria = criteria;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    REQUIRE(r.status.ok());
+    return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
+  };
+  REQUIRE(RegistrationOptions().lm.fine_function_tolerance == ppcr::LMOptions::kAutomatic);
+  const double kAuto = ppcr::LMOptions::kAutomatic;
+  using ppcr::ErrorModel;
+  // Plane model: the same run as 1e-2 given explicitly, to the bit; not the run with it off.
+  const auto plane_auto = pose_with(ErrorModel::kPlane, kAuto, 0.01);
+  const auto plane_1e2 = pose_with(ErrorModel::kPlane, 1e-2, 0.01);
+  const auto plane_off = pose_with(ErrorModel::kPlane, 0.0, 0.01);
+  CHECK(plane_auto.first == plane_1e2.first);
+  CHECK(plane_auto.second == plane_1e2.second);
+  CHECK(plane_auto.second < plane_off.second);
+  CHECK(plane_auto.first != plane_off.first);
+  // A stricter cost-drop threshold caps it: the run of 1e-4 given explicitly.
+  const auto capped_auto = pose_with(ErrorModel::kPlane, kAuto, 1e-4);
+  const auto capped_1e4 = pose_with(ErrorModel::kPlane, 1e-4, 1e-4);
+  const auto capped_1e2 = pose_with(ErrorModel::kPlane, 1e-2, 1e-4);
+  CHECK(capped_auto.first == capped_1e4.first);
+  CHECK(capped_auto.second == capped_1e4.second);
+  CHECK(capped_auto.first != capped_1e2.first);
+  // Another criterion beside (or instead of) the cost drop: the run with it off.
+  const std::uint32_t with_mse = ppcr::kCriterionCostDrop | ppcr::kCriterionMsePrev;
+  const auto mse_auto = pose_with(ErrorModel::kPlane, kAuto, 0.01, with_mse);
+  const auto mse_off = pose_with(ErrorModel::kPlane, 0.0, 0.01, with_mse);
+  const auto mse_1e2 = pose_with(ErrorModel::kPlane, 1e-2, 0.01, with_mse);
+  CHECK(mse_auto.first == mse_off.first);
+  CHECK(mse_auto.second == mse_off.second);
+  CHECK(mse_auto.first != mse_1e2.first);
+  // Point model: the run with it off.
+  const auto point_auto = pose_with(ErrorModel::kPoint, kAuto, 0.01);
+  const auto point_off = pose_with(ErrorModel::kPoint, 0.0, 0.01);
+  const auto point_1e2 = pose_with(ErrorModel::kPoint, 1e-2, 0.01);
+  CHECK(point_auto.first == point_off.first);
+  CHECK(point_auto.second == point_off.second);
+  CHECK(point_auto.first != point_1e2.first);
 }
 
 TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surface noise",

@@ -51,6 +51,16 @@ TEST_CASE("the LM tolerance flags reach the LM options", "[tools]") {
   CHECK(ppcr::validate(p.options).ok());
 }
 
+TEST_CASE("the LM fine tolerance flag takes auto (the default) or a number", "[tools]") {
+  CHECK(parse("").options.lm.fine_function_tolerance == ppcr::LMOptions::kAutomatic);
+  const Parsed automatic = parse("--lm-fine-tolerance auto");
+  REQUIRE(automatic.status.ok());
+  CHECK(automatic.options.lm.fine_function_tolerance == ppcr::LMOptions::kAutomatic);
+  const Parsed off = parse("--lm-fine-tolerance 0 --scale raw");
+  REQUIRE(off.status.ok());
+  CHECK(off.options.lm.fine_function_tolerance == 0.0);
+}
+
 TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]") {
   struct Bad {
     const char* line;
@@ -62,6 +72,8 @@ TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]
       {"--lm-tolerance nan", "--lm-tolerance", "nan"},
       {"--lm-fine-tolerance -0.5", "--lm-fine-tolerance", "-0.5"},
       {"--lm-fine-tolerance inf", "--lm-fine-tolerance", "inf"},
+      {"--lm-fine-tolerance -1", "--lm-fine-tolerance", "-1"},
+      {"--lm-fine-tolerance fast", "--lm-fine-tolerance", "fast"},
       {"--lm-fine-tolerance 0.01 --scale raw", "--lm-fine-tolerance", "raw"},
       {"--scale-shrink 0", "--scale-shrink", "0"},
       {"--neighbour-cache -2", "--neighbour-cache", "-2"},

@@ -95,10 +95,12 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                      str(f->lm_tolerance) + ", the authors')");
   app.add_option("--lm-fine-tolerance", f->lm_fine_tolerance,
                  "EM scale: the inner LM's --lm-tolerance once the scale has left its coarse "
-                 "phase (default " +
-                     str(f->lm_fine_tolerance) +
-                     " = --lm-tolerance throughout; keep it <= --cost-drop-threshold; 1e-2: "
-                     "about a third fewer LM steps with the plane model, docs/PERFORMANCE.md)");
+                 "phase: auto (default: " +
+                     str(ppcr::LMOptions::kPlaneFineTolerance) +
+                     " with the plane model and --criterion cost-drop, at most "
+                     "--cost-drop-threshold; otherwise off), or a number (0 = --lm-tolerance "
+                     "throughout; keep it <= "
+                     "--cost-drop-threshold; docs/PERFORMANCE.md)");
   app.add_option("--reassociate-motion", f->reassociate_motion,
                  "re-associate only when a source point may have moved more than this fraction "
                  "of the radius since the last association (default " +
@@ -219,14 +221,22 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     return bad("--lm-tolerance", str(f.lm_tolerance), "expected a number >= 0");
   }
   o->lm.function_tolerance = f.lm_tolerance;
-  if (!(std::isfinite(f.lm_fine_tolerance) && f.lm_fine_tolerance >= 0.0)) {
-    return bad("--lm-fine-tolerance", str(f.lm_fine_tolerance), "expected a number >= 0");
+  if (f.lm_fine_tolerance == "auto") {
+    o->lm.fine_function_tolerance = ppcr::LMOptions::kAutomatic;
+  } else {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(f.lm_fine_tolerance.c_str(), &end);
+    if (f.lm_fine_tolerance.empty() || *end != '\0' || errno != 0 ||
+        !(std::isfinite(v) && v >= 0.0)) {
+      return bad("--lm-fine-tolerance", f.lm_fine_tolerance, "expected auto or a number >= 0");
+    }
+    if (v > 0.0 && f.scale != "em") {
+      return bad("--lm-fine-tolerance", f.lm_fine_tolerance,
+                 "needs --scale em, got --scale " + f.scale);
+    }
+    o->lm.fine_function_tolerance = v;
   }
-  if (f.lm_fine_tolerance > 0.0 && f.scale != "em") {
-    return bad("--lm-fine-tolerance", str(f.lm_fine_tolerance),
-               "needs --scale em, got --scale " + f.scale);
-  }
-  o->lm.fine_function_tolerance = f.lm_fine_tolerance;
   o->source_voxel = f.source_voxel;
   o->target_voxel = f.target_voxel;
   o->num_threads = f.threads;

@@ -39,8 +39,8 @@ struct RegistrationFlags {
   double scale_shrink = ppcr::WeightOptions().em_min_shrink;  // EM: s^2 shrink limit per iteration
   double reassociate_motion = ppcr::RegistrationOptions().reassociate_motion;
   int neighbour_cache = ppcr::RegistrationOptions().neighbour_cache;
-  double lm_tolerance = ppcr::LMOptions().function_tolerance;            // inner LM
-  double lm_fine_tolerance = ppcr::LMOptions().fine_function_tolerance;  // EM fine phase (0 = off)
+  double lm_tolerance = ppcr::LMOptions().function_tolerance;  // inner LM
+  std::string lm_fine_tolerance = "auto";  // EM fine phase: auto (LMOptions::kAutomatic) or >= 0
   double source_voxel = 0.0;
   double target_voxel = 0.0;
   int threads = 1;
