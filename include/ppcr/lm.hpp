@@ -35,22 +35,25 @@ struct LMOptions {
   static constexpr double kPlaneFineTolerance = 1e-2;
   /// Registration with the EM scale only: function_tolerance of the inner solves once the scale
   /// has left its coarse phase (0 = function_tolerance throughout; a value below
-  /// function_tolerance makes the fine phase stricter; kAutomatic = by error model, above). In
-  /// the fine phase the inner problem changes at every outer iteration (scale, weights,
-  /// associations), so solving each one to 1e-5 mostly re-confirms a pose. With 1e-2 most
-  /// fine-phase solves end on one step taken unevaluated (its predicted decrease is below the
-  /// tolerance; it is not checked). Such an iteration reports the cost before that step, so its
-  /// cost drop reads 0, and the cost-drop criterion counts it as low: keep an explicit value at
-  /// or below termination.cost_drop_threshold (the automatic one is), or iterations that
-  /// dropped more than the threshold count as low; with the successful-steps criterion every
-  /// fine solve takes at most one step. Measured (docs/PERFORMANCE.md, updates 36a06bf and
-  /// "the plane model's inner tolerance"), 1e-2 with the plane model: a third fewer LM steps on
-  /// the benchmark sets, time -8 to -18 % (bunny) and -11 to -16 % (lidar), bunny errors
-  /// +0.09 %, lidar 1.5-2.8 % lower. The point model loses accuracy with it (bunny median
-  /// 0.0064 -> 0.024, stopping after 35.1 outer iterations instead of 38.9), hence off there by
-  /// default; and 3e-3 in the coarse phase too stopped a hard lidar problem 20 degrees off. (Last
-  /// member, so that positional initialisers written for the earlier members keep their
-  /// meaning.)
+  /// function_tolerance makes the fine phase stricter; kAutomatic = by error model and
+  /// criterion, above). In the fine phase the inner problem changes at every outer iteration
+  /// (scale, weights, associations), so solving each one to 1e-5 mostly re-confirms a pose.
+  /// With 1e-2 most fine-phase solves end on one step taken unevaluated (its predicted decrease
+  /// is below the tolerance; it is not checked). Such an iteration reports the cost before that
+  /// step, so its cost drop reads 0 and the cost-drop criterion counts it as low: keep an
+  /// explicit value at or below termination.cost_drop_threshold (the automatic one is), or
+  /// iterations that dropped more than the threshold count as low. Other criteria read what
+  /// one-step solves change: mse-prev the motion per outer iteration (source normals with cost
+  /// drop + mse-prev and 1e-2: the bunny set stopped after 14.8 outer iterations instead of
+  /// 18.1, median error +4.9 %), successful-steps the steps per solve (at most one in the fine
+  /// phase); hence off with them by default. Measured (docs/PERFORMANCE.md, updates
+  /// 36a06bf and 03512d7), 1e-2 with the plane model: a third fewer LM steps on the benchmark
+  /// sets, time -13 to -21 % (bunny) and -15 to -17 % (lidar) in three interleaved comparisons
+  /// on 2026-12-02, bunny errors +0.09 %, lidar 1.5-2.8 % lower. The point model loses accuracy
+  /// with it (bunny median 0.0064 -> 0.024, stopping after 35.1 outer iterations instead of
+  /// 38.9), hence off there by default; and 3e-3 in the coarse phase too stopped a hard lidar
+  /// problem 20 degrees off. (Last member, so that positional initialisers written for the
+  /// earlier members keep their meaning.)
   double fine_function_tolerance = kAutomatic;
 };
 
