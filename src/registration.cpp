@@ -429,10 +429,12 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   }
   detail::ScaleSchedule scale(weights, reference_length);
   // The inner tolerance of the EM fine phase (lm.hpp). kAutomatic: with the plane model and the
-  // cost-drop criterion alone (the defaults), 1e-2 capped at the cost-drop threshold (an
-  // unevaluated last step reads as a drop of 0, so it counts as low only if predicted below the
-  // threshold); otherwise off. The other criteria read what one-step solves change: mse-prev
-  // the motion per outer iteration, successful-steps the steps per solve.
+  // cost-drop criterion alone (the defaults), 1e-2 capped at the cost-drop threshold (a solve
+  // that ends on its one step, taken unevaluated, reads as a drop of 0: with the cap it counts
+  // as low only if that step was predicted to lower the cost by less than the threshold, and the
+  // motion guard, if on, finds the source settled; after evaluated steps the drop is theirs);
+  // otherwise off. The other criteria read what one-step solves change: mse-prev the motion per
+  // outer iteration, successful-steps the steps per solve.
   double fine_tolerance = o.lm.fine_function_tolerance;
   if (fine_tolerance == LMOptions::kAutomatic) {
     const bool cost_drop_alone = o.termination.criteria == kCriterionCostDrop;

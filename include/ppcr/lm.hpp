@@ -28,9 +28,9 @@ struct LMOptions {
                                       // |omega| * r_max + |v|, r_max the source's extent)
   double initial_lambda = 1e-4;  // initial damping (Ceres' default trust radius 1e4 = 1/lambda)
   double max_lambda = 1e16;      // give up (kLambdaTooLarge) when damping exceeds this
-  /// fine_function_tolerance's default: with the plane error model and the cost-drop criterion
-  /// alone (TerminationCriteria's defaults), kPlaneFineTolerance capped at
-  /// TerminationCriteria::cost_drop_threshold; otherwise 0 (off).
+  /// fine_function_tolerance's default (it acts with the EM scale only, below): with the plane
+  /// error model and the cost-drop criterion alone (TerminationCriteria's defaults),
+  /// kPlaneFineTolerance capped at TerminationCriteria::cost_drop_threshold; otherwise 0 (off).
   static constexpr double kAutomatic = -1.0;
   static constexpr double kPlaneFineTolerance = 1e-2;
   /// Registration with the EM scale only: function_tolerance of the inner solves once the scale
@@ -40,20 +40,20 @@ struct LMOptions {
   /// (scale, weights, associations), so solving each one to 1e-5 mostly re-confirms a pose.
   /// With 1e-2 most fine-phase solves end on one step taken unevaluated (its predicted decrease
   /// is below the tolerance; it is not checked). Such an iteration reports the cost before that
-  /// step, so its cost drop reads 0 and the cost-drop criterion counts it as low: keep an
-  /// explicit value at or below termination.cost_drop_threshold (the automatic one is), or
-  /// iterations that dropped more than the threshold count as low. Other criteria read what
-  /// one-step solves change: mse-prev the motion per outer iteration (source normals with cost
-  /// drop + mse-prev and 1e-2: the bunny set stopped after 14.8 outer iterations instead of
-  /// 18.1, median error +4.9 %), successful-steps the steps per solve (at most one in the fine
-  /// phase); hence off with them by default. Measured (docs/PERFORMANCE.md, updates
-  /// 36a06bf and 03512d7), 1e-2 with the plane model: a third fewer LM steps on the benchmark
-  /// sets, time -13 to -21 % (bunny) and -15 to -17 % (lidar) in three interleaved comparisons
-  /// on 2026-12-02, bunny errors +0.09 %, lidar 1.5-2.8 % lower. The point model loses accuracy
-  /// with it (bunny median 0.0064 -> 0.024, stopping after 35.1 outer iterations instead of
-  /// 38.9), hence off there by default; and 3e-3 in the coarse phase too stopped a hard lidar
-  /// problem 20 degrees off. (Last member, so that positional initialisers written for the
-  /// earlier members keep their meaning.)
+  /// step, so its cost drop reads 0 and the cost-drop criterion counts it as low (if the motion
+  /// guard, when on, finds the source settled): keep an explicit value at or below
+  /// termination.cost_drop_threshold (the automatic one is), or iterations that dropped more
+  /// than the threshold count as low. Other criteria read what one-step solves change: mse-prev the
+  /// motion per outer iteration (source normals with cost drop + mse-prev and 1e-2: the bunny set
+  /// stopped after 14.8 outer iterations instead of 18.1, median error +4.9 %), successful-steps
+  /// the steps per solve (mostly one in the fine phase); hence off with them by default. Measured
+  /// (docs/PERFORMANCE.md, updates 36a06bf and 03512d7), 1e-2 with the plane model: a third fewer
+  /// LM steps on the benchmark sets, time -13 to -21 % (bunny) and -15 to -17 % (lidar) in three
+  /// interleaved comparisons on 2026-12-02, bunny errors +0.09 %, lidar 1.5-2.8 % lower. The point
+  /// model loses accuracy with it (bunny median 0.0064 -> 0.024, stopping after 35.1 outer
+  /// iterations instead of 38.9), hence off there by default; and 3e-3 in the coarse phase too
+  /// stopped a hard lidar problem 20 degrees off. (Last member, so that positional initialisers
+  /// written for the earlier members keep their meaning.)
   double fine_function_tolerance = kAutomatic;
 };
 

@@ -141,9 +141,9 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
   // The start is far: the ground truth's rotation is 34.3 degrees (the scan is nominally at 45
   // degrees, as the data README says, but bun045_gt.txt rotates by 34.3).
   CHECK(ppcr::rotation_error_deg(Eigen::Isometry3d::Identity(), T_gt) > 30.0);
-  // Measured: plane 0.065 degrees / 0.05 mm (with source normals 0.080 / 0.04 mm, and the noise
-  // floor 0.082 / 0.04 mm), point 0.39 degrees / 0.5 mm (the authors' code: 3.7-4.3 degrees on
-  // these clouds in metres, 0.52 in millimetres).
+  // Measured: plane 0.066 degrees / 0.05 mm (ppcr_cli at commit 03512d7; before it 0.065, with
+  // source normals 0.080 / 0.04 mm, and the noise floor 0.082 / 0.04 mm), point 0.39 degrees /
+  // 0.5 mm (the authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in millimetres).
   struct Model {
     ppcr::ErrorModel model;
     bool source_normals;
