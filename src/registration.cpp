@@ -438,9 +438,12 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   double fine_tolerance = o.lm.fine_function_tolerance;
   if (fine_tolerance == LMOptions::kAutomatic) {
     const bool cost_drop_alone = o.termination.criteria == kCriterionCostDrop;
+    // Never stricter than function_tolerance itself (0 = function_tolerance throughout).
+    const double loosened =
+        std::min(LMOptions::kPlaneFineTolerance, o.termination.cost_drop_threshold);
     fine_tolerance =
-        o.error_model == ErrorModel::kPlane && cost_drop_alone
-            ? std::min(LMOptions::kPlaneFineTolerance, o.termination.cost_drop_threshold)
+        o.error_model == ErrorModel::kPlane && cost_drop_alone && loosened > o.lm.function_tolerance
+            ? loosened
             : 0.0;
   }
   const double radius_sq = o.radius * o.radius;

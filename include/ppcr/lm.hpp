@@ -30,7 +30,8 @@ struct LMOptions {
   double max_lambda = 1e16;      // give up (kLambdaTooLarge) when damping exceeds this
   /// fine_function_tolerance's default (it acts with the EM scale only, below): with the plane
   /// error model and the cost-drop criterion alone (TerminationCriteria's defaults),
-  /// kPlaneFineTolerance capped at TerminationCriteria::cost_drop_threshold; otherwise 0 (off).
+  /// kPlaneFineTolerance capped at TerminationCriteria::cost_drop_threshold, unless that is not
+  /// above function_tolerance; otherwise 0 (off: function_tolerance throughout).
   static constexpr double kAutomatic = -1.0;
   static constexpr double kPlaneFineTolerance = 1e-2;
   /// Registration with the EM scale only: function_tolerance of the inner solves once the scale

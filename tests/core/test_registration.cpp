@@ -944,6 +944,24 @@ TEST_CASE(
   CHECK(capped_auto.first == capped_1e4.first);
   CHECK(capped_auto.second == capped_1e4.second);
   CHECK(capped_auto.first != capped_1e2.first);
+  // Never stricter than function_tolerance: with a threshold of 1e-4 and function_tolerance
+  // 1e-3, the run with the fine tolerance off, not the one with 1e-4.
+  auto pose_with_tolerance = [&](double fine) {
+    RegistrationOptions o = scene_options();
+    o.error_model = ErrorModel::kPlane;
+    o.lm.function_tolerance = 1e-3;
+    o.lm.fine_function_tolerance = fine;
+    o.termination.cost_drop_threshold = 1e-4;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    REQUIRE(r.status.ok());
+    return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
+  };
+  const auto loose_auto = pose_with_tolerance(kAuto);
+  const auto loose_off = pose_with_tolerance(0.0);
+  const auto loose_1e4 = pose_with_tolerance(1e-4);
+  CHECK(loose_auto.first == loose_off.first);
+  CHECK(loose_auto.second == loose_off.second);
+  CHECK(loose_auto.first != loose_1e4.first);
   // Another criterion beside (or instead of) the cost drop: the run with it off.
   const std::uint32_t with_mse = ppcr::kCriterionCostDrop | ppcr::kCriterionMsePrev;
   const auto mse_auto = pose_with(ErrorModel::kPlane, kAuto, 0.01, with_mse);

@@ -98,7 +98,8 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "phase: auto (default: " +
                      str(ppcr::LMOptions::kPlaneFineTolerance) +
                      " with the plane model and --criterion cost-drop, at most "
-                     "--cost-drop-threshold; otherwise off), or a number (0 = --lm-tolerance "
+                     "--cost-drop-threshold; otherwise, or if that is not above --lm-tolerance, "
+                     "off), or a number (0 = --lm-tolerance "
                      "throughout; keep it <= "
                      "--cost-drop-threshold; docs/PERFORMANCE.md)");
   app.add_option("--reassociate-motion", f->reassociate_motion,
