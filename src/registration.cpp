@@ -145,6 +145,25 @@ Eigen::Isometry3d translation(const Eigen::Vector3d& t) {
   return T;
 }
 
+// The inner LM's function_tolerance in the EM scale's fine phase (lm.hpp), or 0 for none (no EM
+// scale, or function_tolerance throughout). kAutomatic: with the plane model and the cost-drop
+// criterion alone (the defaults), 1e-2 capped at the cost-drop threshold (a solve that ends on
+// its one step, taken unevaluated, reads as a drop of 0: with the cap it counts as low only if
+// that step was predicted to lower the cost by less than the threshold, and the motion guard,
+// if on, finds the source settled; after evaluated steps the drop is theirs), and never
+// stricter than function_tolerance; otherwise none. The other criteria read what one-step
+// solves change: mse-prev the motion per outer iteration, successful-steps the steps per solve.
+double fine_phase_tolerance(const RegistrationOptions& o) {
+  if (o.weights.scale_mode != ScaleMode::kEM) return 0.0;
+  if (o.lm.fine_function_tolerance != LMOptions::kAutomatic) return o.lm.fine_function_tolerance;
+  if (o.error_model != ErrorModel::kPlane || o.termination.criteria != kCriterionCostDrop) {
+    return 0.0;
+  }
+  const double loosened =
+      std::min(LMOptions::kPlaneFineTolerance, o.termination.cost_drop_threshold);
+  return loosened > o.lm.function_tolerance ? loosened : 0.0;
+}
+
 }  // namespace
 
 Status validate(const RegistrationOptions& o) {
@@ -428,24 +447,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     weights.em_min_scale = std::max(weights.em_min_scale, noise_floor);
   }
   detail::ScaleSchedule scale(weights, reference_length);
-  // The inner tolerance of the EM fine phase (lm.hpp). kAutomatic: with the plane model and the
-  // cost-drop criterion alone (the defaults), 1e-2 capped at the cost-drop threshold (a solve
-  // that ends on its one step, taken unevaluated, reads as a drop of 0: with the cap it counts
-  // as low only if that step was predicted to lower the cost by less than the threshold, and the
-  // motion guard, if on, finds the source settled; after evaluated steps the drop is theirs);
-  // otherwise off. The other criteria read what one-step solves change: mse-prev the motion per
-  // outer iteration, successful-steps the steps per solve.
-  double fine_tolerance = o.lm.fine_function_tolerance;
-  if (fine_tolerance == LMOptions::kAutomatic) {
-    const bool cost_drop_alone = o.termination.criteria == kCriterionCostDrop;
-    // Never stricter than function_tolerance itself (0 = function_tolerance throughout).
-    const double loosened =
-        std::min(LMOptions::kPlaneFineTolerance, o.termination.cost_drop_threshold);
-    fine_tolerance =
-        o.error_model == ErrorModel::kPlane && cost_drop_alone && loosened > o.lm.function_tolerance
-            ? loosened
-            : 0.0;
-  }
+  const double fine_tolerance = fine_phase_tolerance(o);
   const double radius_sq = o.radius * o.radius;
 
   using Clock = std::chrono::steady_clock;
@@ -500,11 +502,9 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     // then keep z = 0 (not 0 * Inf = NaN).
     problem.weights.inv_scale_sq = std::min(1.0 / scale_sq, std::numeric_limits<double>::max());
 
-    // EM fine phase: the looser inner tolerance, if set (lm.hpp).
+    // EM fine phase: the looser inner tolerance, if any (lm.hpp).
     LMOptions lm_options = o.lm;
-    if (fine_tolerance > 0.0 && o.weights.scale_mode == ScaleMode::kEM && !scale.coarse()) {
-      lm_options.function_tolerance = fine_tolerance;
-    }
+    if (fine_tolerance > 0.0 && !scale.coarse()) lm_options.function_tolerance = fine_tolerance;
     const LMSummary lm = m.lm.solve(lm_options, problem, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;

@@ -916,9 +916,11 @@ TEST_CASE(
     "[registration]") {
   const Scene sc = make_scene(3000, 20000, false);
   auto pose_with = [&](ppcr::ErrorModel model, double fine, double cost_drop_threshold,
-                       std::uint32_t criteria = ppcr::kCriterionCostDrop) {
+                       std::uint32_t criteria = ppcr::kCriterionCostDrop,
+                       double function_tolerance = ppcr::LMOptions().function_tolerance) {
     RegistrationOptions o = scene_options();
     o.error_model = model;
+    o.lm.function_tolerance = function_tolerance;
     o.lm.fine_function_tolerance = fine;
     o.termination.cost_drop_threshold = cost_drop_threshold;
     o.termination.criteria = criteria;
@@ -946,19 +948,10 @@ TEST_CASE(
   CHECK(capped_auto.first != capped_1e2.first);
   // Never stricter than function_tolerance: with a threshold of 1e-4 and function_tolerance
   // 1e-3, the run with the fine tolerance off, not the one with 1e-4.
-  auto pose_with_tolerance = [&](double fine) {
-    RegistrationOptions o = scene_options();
-    o.error_model = ErrorModel::kPlane;
-    o.lm.function_tolerance = 1e-3;
-    o.lm.fine_function_tolerance = fine;
-    o.termination.cost_drop_threshold = 1e-4;
-    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
-    REQUIRE(r.status.ok());
-    return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
-  };
-  const auto loose_auto = pose_with_tolerance(kAuto);
-  const auto loose_off = pose_with_tolerance(0.0);
-  const auto loose_1e4 = pose_with_tolerance(1e-4);
+  const std::uint32_t cost_drop = ppcr::kCriterionCostDrop;
+  const auto loose_auto = pose_with(ErrorModel::kPlane, kAuto, 1e-4, cost_drop, 1e-3);
+  const auto loose_off = pose_with(ErrorModel::kPlane, 0.0, 1e-4, cost_drop, 1e-3);
+  const auto loose_1e4 = pose_with(ErrorModel::kPlane, 1e-4, 1e-4, cost_drop, 1e-3);
   CHECK(loose_auto.first == loose_off.first);
   CHECK(loose_auto.second == loose_off.second);
   CHECK(loose_auto.first != loose_1e4.first);

@@ -19,6 +19,14 @@ std::string str(double v) {
   return s.str();
 }
 
+// text as a finite number (the whole of it, in range), else false.
+bool parse_finite(const std::string& text, double* v) {
+  errno = 0;
+  char* end = nullptr;
+  *v = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && errno == 0 && std::isfinite(*v);
+}
+
 }  // namespace
 
 void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
@@ -99,8 +107,7 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                      str(ppcr::LMOptions::kPlaneFineTolerance) +
                      " with the plane model and --criterion cost-drop, at most "
                      "--cost-drop-threshold; otherwise, or if that is not above --lm-tolerance, "
-                     "off), or a number (0 = --lm-tolerance "
-                     "throughout; keep it <= "
+                     "off), or a number (0 = --lm-tolerance throughout; keep it <= "
                      "--cost-drop-threshold; docs/PERFORMANCE.md)");
   app.add_option("--reassociate-motion", f->reassociate_motion,
                  "re-associate only when a source point may have moved more than this fraction "
@@ -126,10 +133,8 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   } else if (f.scale == "raw") {
     o->weights.scale_mode = ppcr::ScaleMode::kRaw;
   } else {
-    errno = 0;
-    char* end = nullptr;
-    const double s = std::strtod(f.scale.c_str(), &end);
-    if (f.scale.empty() || *end != '\0' || errno != 0 || !(std::isfinite(s) && s > 0.0)) {
+    double s = 0.0;
+    if (!(parse_finite(f.scale, &s) && s > 0.0)) {
       return bad("--scale", f.scale, "expected em, raw or a positive number");
     }
     o->weights.scale_mode = ppcr::ScaleMode::kFixed;
@@ -225,11 +230,8 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   if (f.lm_fine_tolerance == "auto") {
     o->lm.fine_function_tolerance = ppcr::LMOptions::kAutomatic;
   } else {
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(f.lm_fine_tolerance.c_str(), &end);
-    if (f.lm_fine_tolerance.empty() || *end != '\0' || errno != 0 ||
-        !(std::isfinite(v) && v >= 0.0)) {
+    double v = 0.0;
+    if (!(parse_finite(f.lm_fine_tolerance, &v) && v >= 0.0)) {
       return bad("--lm-fine-tolerance", f.lm_fine_tolerance, "expected auto or a number >= 0");
     }
     if (v > 0.0 && f.scale != "em") {
