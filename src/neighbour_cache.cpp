@@ -270,6 +270,32 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   cache->last_resorted = resorted;
 }
 
+void adopt_lists(const NeighbourCache& from, const AssociationTable& from_table, std::size_t stride,
+                 NeighbourCache* to, AssociationTable* to_table) {
+  assert(from.table == &from_table && to->capacity == from.capacity &&
+         to_table->k == from_table.k && stride >= 1);
+  const std::size_t n_from = from.count.size();
+  assert(n_from == 0 || (n_from - 1) * stride < to->count.size());
+  to->invalidate();  // every point without a list ...
+  const std::size_t capacity = static_cast<std::size_t>(from.capacity);
+  const std::size_t k = static_cast<std::size_t>(from_table.k);
+  for (std::size_t i = 0; i < n_from; ++i) {  // ... but those `from` holds
+    const std::size_t j = i * stride;
+    std::copy_n(&from.index[i * capacity], capacity, &to->index[j * capacity]);
+    to->count[j] = from.count[i];
+    to->query[j] = from.query[i];
+    to->bound[j] = from.bound[i];
+    to->ranked_at[j] = from.ranked_at[i];
+    to->set_radius_sq[j] = from.set_radius_sq[i];
+    std::copy_n(&from_table.index[i * k], k, &to_table->index[j * k]);
+    std::copy_n(&from_table.dist_sq[i * k], k, &to_table->dist_sq[j * k]);
+    to_table->count[j] = from_table.count[i];
+  }
+  to->table = to_table;
+  to->table_k = from.table_k;
+  to->table_radius = from.table_radius;
+}
+
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -461,6 +461,69 @@ TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried
   CHECK(answered_from_lists > 5 * source.size());  // the lists' paths were exercised
 }
 
+TEST_CASE(
+    "adopt_lists: a level that takes a coarser level's lists fills the tables of brute force and "
+    "of "
+    "a fresh cache, querying fewer points",
+    "[association]") {
+  // The registration's coarse phase (RegistrationOptions::coarse_stride): every stride-th point
+  // of a Z-ordered source drifts with its own cache; then every point, the coarse points' lists
+  // adopted. Adopted rows must be answered from their lists (fewer queries) and every table must
+  // be what brute force and a fresh cache give, indices, order and distances.
+  const Scene scene(58, 5000, 3000, 1.1);
+  REQUIRE(scene.built);
+  const PointCloud& target = scene.target;
+  PointCloud source = scene.source;
+  ppcr::detail::SpatialSortScratch sort_scratch;
+  ppcr::detail::spatial_sort(&source, nullptr, &sort_scratch);
+  const KdTree& tree = scene.tree;
+  const std::vector<Eigen::Isometry3d>& poses = scene.poses;
+  const double radius = 0.15;
+  const int k = 10, capacity = 14;
+  constexpr std::size_t kSwitch = 7;  // the first pose of the full level: in the slow drift
+  for (std::size_t stride : {2u, 3u}) {
+    INFO("stride " << stride);
+    PointCloud coarse;
+    for (std::size_t i = 0; i < source.size(); i += stride) coarse.push_back(source[i]);
+    NeighbourCache coarse_cache, cache;
+    coarse_cache.resize(coarse.size(), capacity);
+    cache.resize(source.size(), capacity);
+    AssociationTable coarse_table, table, fresh_table;
+    coarse_table.resize(coarse.size(), k);
+    table.resize(source.size(), k);
+    fresh_table.resize(source.size(), k);
+    for (std::size_t i = 0; i < kSwitch; ++i) {
+      ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, 1, &coarse_cache,
+                                     &coarse_table);
+    }
+    ppcr::detail::adopt_lists(coarse_cache, coarse_table, stride, &cache, &table);
+    for (std::size_t i = kSwitch; i < poses.size(); ++i) {
+      INFO("pose " << i);
+      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
+      if (i == kSwitch) {
+        // Every point without a list is queried; most adopted ones are answered from theirs.
+        CHECK(cache.last_queries >= source.size() - coarse.size());
+        CHECK(cache.last_queries < source.size() - coarse.size() / 2);
+      }
+      REQUIRE(table_mismatch(table, source, target, poses[i], radius * radius) == "");
+      NeighbourCache fresh;
+      fresh.resize(source.size(), capacity);
+      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &fresh,
+                                     &fresh_table);
+      // Row by row: a table's slots past a row's count are not part of the answer.
+      REQUIRE(table.count == fresh_table.count);
+      std::size_t rows_differing = 0;
+      for (std::size_t j = 0; j < source.size(); ++j) {
+        const std::size_t begin = j * k, end = begin + table.count[j];
+        rows_differing +=
+            !std::equal(&table.index[begin], &table.index[end], &fresh_table.index[begin]) ||
+            !std::equal(&table.dist_sq[begin], &table.dist_sq[end], &fresh_table.dist_sq[begin]);
+      }
+      CHECK(rows_differing == 0);
+    }
+  }
+}
+
 TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads", "[association]") {
   const Scene scene(53, 20000, 15000, 1.1);
   REQUIRE(scene.built);
@@ -513,4 +576,17 @@ TEST_CASE("registration with and without the neighbour cache gives the same pose
       CHECK((cached.T_target_source.linear() - T_true.linear()).norm() < 1e-2);
     }
   }
+  // A coarse level (the plane model's default stride 2 here: 2500 points) hands its lists to the
+  // full level: the same pose as without the cache, with that stride.
+  ppcr::RegistrationOptions o;
+  o.radius = 0.2;
+  o.coarse_stride = 2;
+  o.neighbour_cache = 0;
+  const ppcr::RegistrationResult plain = ppcr::align(source, target, o);
+  o.neighbour_cache = 4;
+  const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
+  REQUIRE(plain.status.ok());
+  REQUIRE(cached.status.ok());
+  CHECK(plain.iterations == cached.iterations);
+  CHECK(plain.T_target_source.matrix() == cached.T_target_source.matrix());
 }

@@ -100,6 +100,9 @@ std::vector<BadOption> bad_options() {
       {"max_neighbours -3", [](O& o) { o.max_neighbours = -3; }, {"max_neighbours", "-3"}},
       {"max_neighbours 1025", [](O& o) { o.max_neighbours = 1025; }, {"max_neighbours", "1025"}},
       {"neighbour_cache -1", [](O& o) { o.neighbour_cache = -1; }, {"neighbour_cache", "-1"}},
+      {"coarse_stride 0", [](O& o) { o.coarse_stride = 0; }, {"coarse_stride", "0"}},
+      {"coarse_stride -2", [](O& o) { o.coarse_stride = -2; }, {"coarse_stride", "-2"}},
+      {"coarse_stride 65", [](O& o) { o.coarse_stride = 65; }, {"coarse_stride", "65"}},
       {"dof 0", [](O& o) { o.weights.dof = 0.0; }, {"dof", "0"}},
       {"dof -2", [](O& o) { o.weights.dof = -2.0; }, {"dof", "-2"}},
       {"dof NaN", [](O& o) { o.weights.dof = kNaN; }, {"dof", "nan"}},
@@ -255,6 +258,11 @@ TEST_CASE("validate accepts the defaults and the boundaries of each range", "[re
   o.termination.max_iterations = 1;
   o.lm.max_iterations = 1;
   o.num_threads = 1;
+  o.coarse_stride = 1;
+  CHECK(ppcr::validate(o).ok());
+  o.coarse_stride = 64;
+  CHECK(ppcr::validate(o).ok());
+  o.coarse_stride = RegistrationOptions::kAutomatic;
   CHECK(ppcr::validate(o).ok());
   // Plane options are unused by the point model.
   o.error_model = ppcr::ErrorModel::kPoint;
@@ -970,6 +978,103 @@ TEST_CASE(
   CHECK(point_auto.first == point_off.first);
   CHECK(point_auto.second == point_off.second);
   CHECK(point_auto.first != point_1e2.first);
+}
+
+TEST_CASE(
+    "coarse_stride: the EM coarse phase registers every stride-th point, the fine phase every "
+    "point",
+    "[registration]") {
+  const Scene sc = make_scene(3000, 20000, false);
+  RegistrationOptions o = scene_options();
+  o.coarse_stride = 3;
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+  INFO(describe(r));
+  REQUIRE(r.status.ok());
+  REQUIRE(r.source_points == 3000);
+  // The coarse phase holds the scale at radius / 2 (weights.hpp); its iterations registered the
+  // 1000 points of the coarse level, the later ones more than that (all 3000 in range here).
+  const double coarse_scale = 0.5 * o.radius;
+  int coarse_rows = 0;
+  for (const ppcr::IterationRecord& h : r.history) {
+    INFO("iteration " << h.iteration << " scale " << h.scale);
+    if (std::abs(h.scale - coarse_scale) < 1e-12) {
+      ++coarse_rows;
+      CHECK(h.matched_source_points <= 1000);
+      CHECK(h.matched_source_points > 900);
+    } else {
+      CHECK(h.matched_source_points > 2700);
+    }
+  }
+  CHECK(coarse_rows >= 2);
+  CHECK(coarse_rows < r.iterations);
+  CHECK(r.matched_source_points > 2700);
+  CHECK((r.T_target_source.linear() - sc.T_true.linear()).norm() < 1e-3);
+  CHECK((r.T_target_source.translation() - sc.T_true.translation()).norm() < 1e-3);
+
+  SECTION("stopped in the coarse phase: the result describes the coarse level") {
+    RegistrationOptions o2 = o;
+    o2.termination.max_iterations = 2;
+    const RegistrationResult r2 = ppcr::align(sc.source, sc.target, o2);
+    REQUIRE(r2.stop_reason == StopReason::kMaxIterations);
+    REQUIRE(std::abs(r2.history.back().scale - coarse_scale) < 1e-12);
+    CHECK(r2.matched_source_points <= 1000);
+    CHECK(r2.information.allFinite());
+    CHECK(r2.information.trace() > 0.0);
+    CHECK(r2.degenerate_directions == 0);
+  }
+}
+
+TEST_CASE(
+    "the automatic coarse stride is 2 with the plane model and 1 with the point model, lowered "
+    "to keep 1000 points",
+    "[registration]") {
+  REQUIRE(RegistrationOptions().coarse_stride == RegistrationOptions::kAutomatic);
+  REQUIRE(RegistrationOptions::kPlaneCoarseStride == 2);
+  REQUIRE(RegistrationOptions::kMinCoarsePoints == 1000);
+  auto pose_with = [](const Scene& sc, ppcr::ErrorModel model, int stride,
+                      ppcr::ScaleMode scale = ppcr::ScaleMode::kEM) {
+    RegistrationOptions o = scene_options();
+    o.error_model = model;
+    o.coarse_stride = stride;
+    o.weights.scale_mode = scale;
+    if (scale == ppcr::ScaleMode::kFixed) o.weights.scale = 0.02;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    REQUIRE(r.status.ok());
+    return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
+  };
+  using ppcr::ErrorModel;
+  const int kAuto = RegistrationOptions::kAutomatic;
+  const Scene sc = make_scene(3000, 20000, false);
+  // Plane model: the run of stride 2, to the bit; not the run of stride 1.
+  const auto plane_auto = pose_with(sc, ErrorModel::kPlane, kAuto);
+  const auto plane_2 = pose_with(sc, ErrorModel::kPlane, 2);
+  const auto plane_1 = pose_with(sc, ErrorModel::kPlane, 1);
+  CHECK(plane_auto.first == plane_2.first);
+  CHECK(plane_auto.second == plane_2.second);
+  CHECK(plane_auto.first != plane_1.first);
+  // Point model: the run of stride 1.
+  const auto point_auto = pose_with(sc, ErrorModel::kPoint, kAuto);
+  const auto point_1 = pose_with(sc, ErrorModel::kPoint, 1);
+  const auto point_2 = pose_with(sc, ErrorModel::kPoint, 2);
+  CHECK(point_auto.first == point_1.first);
+  CHECK(point_auto.second == point_1.second);
+  CHECK(point_auto.first != point_2.first);
+  // 3000 points keep stride 3 (1000 points), lower stride 4 to 3.
+  const auto plane_3 = pose_with(sc, ErrorModel::kPlane, 3);
+  const auto plane_4 = pose_with(sc, ErrorModel::kPlane, 4);
+  CHECK(plane_4.first == plane_3.first);
+  CHECK(plane_3.first != plane_2.first);
+  // Without the EM scale there is no coarse phase: any stride is the run of stride 1.
+  const auto fixed_4 = pose_with(sc, ErrorModel::kPlane, 4, ppcr::ScaleMode::kFixed);
+  const auto fixed_1 = pose_with(sc, ErrorModel::kPlane, 1, ppcr::ScaleMode::kFixed);
+  CHECK(fixed_4.first == fixed_1.first);
+  CHECK(fixed_4.second == fixed_1.second);
+  // Below 2000 points, the whole source: automatic is the run of stride 1.
+  const Scene small = make_scene(1999, 20000, false);
+  const auto small_auto = pose_with(small, ErrorModel::kPlane, kAuto);
+  const auto small_1 = pose_with(small, ErrorModel::kPlane, 1);
+  CHECK(small_auto.first == small_1.first);
+  CHECK(small_auto.second == small_1.second);
 }
 
 TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surface noise",

@@ -37,6 +37,7 @@ TEST_CASE("no flags give the library's default options", "[tools]") {
   CHECK(p.options.max_neighbours == defaults.max_neighbours);
   CHECK(p.options.error_model == defaults.error_model);
   CHECK(p.options.neighbour_cache == defaults.neighbour_cache);
+  CHECK(p.options.coarse_stride == defaults.coarse_stride);
   CHECK(p.options.lm.function_tolerance == defaults.lm.function_tolerance);
   CHECK(p.options.lm.fine_function_tolerance == defaults.lm.fine_function_tolerance);
   CHECK(p.options.weights.em_min_shrink == defaults.weights.em_min_shrink);
@@ -61,6 +62,19 @@ TEST_CASE("the LM fine tolerance flag takes auto (the default) or a number", "[t
   CHECK(off.options.lm.fine_function_tolerance == 0.0);
 }
 
+TEST_CASE("the coarse stride flag takes auto (the default) or an integer in [1, 64]", "[tools]") {
+  CHECK(parse("").options.coarse_stride == ppcr::RegistrationOptions::kAutomatic);
+  CHECK(parse("--coarse-stride auto").options.coarse_stride ==
+        ppcr::RegistrationOptions::kAutomatic);
+  for (int stride : {1, 4, 64}) {
+    const Parsed p = parse("--coarse-stride " + std::to_string(stride));
+    REQUIRE(p.status.ok());
+    CHECK(p.options.coarse_stride == stride);
+    CHECK(ppcr::validate(p.options).ok());
+  }
+  CHECK(parse("--coarse-stride 1 --scale raw").status.ok());  // 1 is every point: no EM needed
+}
+
 TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]") {
   struct Bad {
     const char* line;
@@ -77,6 +91,12 @@ TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]
       {"--lm-fine-tolerance 0.01 --scale raw", "--lm-fine-tolerance", "raw"},
       {"--scale-shrink 0", "--scale-shrink", "0"},
       {"--neighbour-cache -2", "--neighbour-cache", "-2"},
+      {"--coarse-stride 0", "--coarse-stride", "0"},
+      {"--coarse-stride 65", "--coarse-stride", "65"},
+      {"--coarse-stride 2.5", "--coarse-stride", "2.5"},
+      {"--coarse-stride -1", "--coarse-stride", "-1"},
+      {"--coarse-stride half", "--coarse-stride", "half"},
+      {"--coarse-stride 2 --scale raw", "--coarse-stride", "raw"},
       {"--radius -1", "--radius", "-1"},
   };
   for (const Bad& b : cases) {

@@ -97,6 +97,13 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "(default " +
                      std::to_string(f->neighbour_cache) +
                      "; 0 = a k-d tree query per point and iteration; same result either way)");
+  app.add_option("--coarse-stride", f->coarse_stride,
+                 "EM scale: register every this-th source point during the coarse phase, every "
+                 "point after it: auto (default: " +
+                     std::to_string(ppcr::RegistrationOptions::kPlaneCoarseStride) +
+                     " with the plane model, 1 with the point model) or an integer in [1, 64] "
+                     "(1 = every point throughout, the paper); lowered to keep at least " +
+                     std::to_string(ppcr::RegistrationOptions::kMinCoarsePoints) + " points");
   app.add_option("--lm-tolerance", f->lm_tolerance,
                  "inner LM: stop after a step lowering the cost by less than this fraction of it "
                  "(default " +
@@ -223,6 +230,18 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
     return bad("--neighbour-cache", std::to_string(f.neighbour_cache), "expected >= 0");
   }
   o->neighbour_cache = f.neighbour_cache;
+  if (f.coarse_stride == "auto") {
+    o->coarse_stride = ppcr::RegistrationOptions::kAutomatic;
+  } else {
+    double v = 0.0;
+    if (!(parse_finite(f.coarse_stride, &v) && v >= 1.0 && v <= 64.0 && v == std::floor(v))) {
+      return bad("--coarse-stride", f.coarse_stride, "expected auto or an integer in [1, 64]");
+    }
+    if (v > 1.0 && f.scale != "em") {
+      return bad("--coarse-stride", f.coarse_stride, "needs --scale em, got --scale " + f.scale);
+    }
+    o->coarse_stride = static_cast<int>(v);
+  }
   if (!(std::isfinite(f.lm_tolerance) && f.lm_tolerance >= 0.0)) {
     return bad("--lm-tolerance", str(f.lm_tolerance), "expected a number >= 0");
   }

@@ -39,6 +39,8 @@ struct RegistrationFlags {
   double scale_shrink = ppcr::WeightOptions().em_min_shrink;  // EM: s^2 shrink limit per iteration
   double reassociate_motion = ppcr::RegistrationOptions().reassociate_motion;
   int neighbour_cache = ppcr::RegistrationOptions().neighbour_cache;
+  std::string coarse_stride = "auto";  // EM coarse phase: auto (RegistrationOptions::kAutomatic)
+                                       // or an integer in [1, 64]
   double lm_tolerance = ppcr::LMOptions().function_tolerance;  // inner LM
   std::string lm_fine_tolerance = "auto";  // EM fine phase: auto (LMOptions::kAutomatic) or >= 0
   double source_voxel = 0.0;
