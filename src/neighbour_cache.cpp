@@ -270,30 +270,43 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   cache->last_resorted = resorted;
 }
 
-void adopt_lists(const NeighbourCache& from, const AssociationTable& from_table, std::size_t stride,
-                 NeighbourCache* to, AssociationTable* to_table) {
-  assert(from.table == &from_table && to->capacity == from.capacity &&
-         to_table->k == from_table.k && stride >= 1);
-  const std::size_t n_from = from.count.size();
-  assert(n_from == 0 || (n_from - 1) * stride < to->count.size());
-  to->invalidate();  // every point without a list ...
-  const std::size_t capacity = static_cast<std::size_t>(from.capacity);
-  const std::size_t k = static_cast<std::size_t>(from_table.k);
-  for (std::size_t i = 0; i < n_from; ++i) {  // ... but those `from` holds
+void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
+                  AssociationTable* table) {
+  const std::size_t coarse = cache->count.size();
+  assert(cache->table == table && table->count.size() == coarse && stride >= 1 &&
+         (coarse == 0 || (coarse - 1) * stride < points));
+  const std::size_t capacity = static_cast<std::size_t>(cache->capacity);
+  const std::size_t k = static_cast<std::size_t>(table->k);
+  // Grow (vector::resize keeps the rows held), then move row i to i * stride from the last row
+  // down: its destination is at or past its own place, so no row still to move is overwritten,
+  // and for stride >= 2 a row never overlaps its destination.
+  cache->index.resize(points * capacity);
+  cache->count.resize(points);
+  cache->query.resize(points);
+  cache->bound.resize(points);
+  cache->path.resize(points);
+  cache->seed.resize(points);
+  cache->ranked_at.resize(points);
+  cache->set_radius_sq.resize(points);
+  table->resize(points, table->k);
+  for (std::size_t i = coarse; i-- > 1;) {
     const std::size_t j = i * stride;
-    std::copy_n(&from.index[i * capacity], capacity, &to->index[j * capacity]);
-    to->count[j] = from.count[i];
-    to->query[j] = from.query[i];
-    to->bound[j] = from.bound[i];
-    to->ranked_at[j] = from.ranked_at[i];
-    to->set_radius_sq[j] = from.set_radius_sq[i];
-    std::copy_n(&from_table.index[i * k], k, &to_table->index[j * k]);
-    std::copy_n(&from_table.dist_sq[i * k], k, &to_table->dist_sq[j * k]);
-    to_table->count[j] = from_table.count[i];
+    std::copy_n(&cache->index[i * capacity], capacity, &cache->index[j * capacity]);
+    cache->count[j] = cache->count[i];
+    cache->query[j] = cache->query[i];
+    cache->bound[j] = cache->bound[i];
+    cache->ranked_at[j] = cache->ranked_at[i];
+    cache->set_radius_sq[j] = cache->set_radius_sq[i];
+    std::copy_n(&table->index[i * k], k, &table->index[j * k]);
+    std::copy_n(&table->dist_sq[i * k], k, &table->dist_sq[j * k]);
+    table->count[j] = table->count[i];
   }
-  to->table = to_table;
-  to->table_k = from.table_k;
-  to->table_radius = from.table_radius;
+  for (std::size_t j = 0; j < points; ++j) {
+    if (j % stride != 0 || j / stride >= coarse) {  // no list: queried by the next call
+      cache->bound[j] = -1.0;
+      cache->set_radius_sq[j] = -1.0;
+    }
+  }
 }
 
 }  // namespace detail

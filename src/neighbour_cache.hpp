@@ -143,18 +143,19 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
                       const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
                       NeighbourCache* cache, AssociationTable* table);
 
-/// Hands the lists of one level of the source to a finer one (RegistrationOptions::coarse_stride):
-/// point i of `from` is point i * stride of `to`, the same source point. `to`'s rows for those
-/// points become `from`'s (candidates, bounds, certificates, and the table rows they certify);
-/// every other point of `to` has no list. The certificates speak of a source point's positions
-/// and the tree, not of the cloud that holds the point, so the next associate_cached with `to`
-/// and `to_table` (same tree, target, k and radius as `from`'s last call) fills the table a fresh
-/// association would, querying only where the lists cannot prove the answer (the others take
-/// their previous point's list as a seed, "Seeded queries"). `from` must hold its last call's
-/// lists for `from_table`; `to` must have `from`'s capacity and `to_table` `from_table`'s k, with
-/// room for the points. Allocation-free.
-void adopt_lists(const NeighbourCache& from, const AssociationTable& from_table, std::size_t stride,
-                 NeighbourCache* to, AssociationTable* to_table);
+/// Spreads a coarse level's lists over the full source, in place (RegistrationOptions::
+/// coarse_stride): the cache and table hold one row per point of the coarse level, whose point i
+/// is point i * stride of the full source; afterwards they hold `points` rows, row i * stride
+/// being the old row i (candidates, bounds, certificates, and the table row they certify) and
+/// every other point without a list. The certificates speak of a source point's positions and the
+/// tree, not of the cloud that holds the point, so the next associate_cached with the full source
+/// (same tree, target, k and radius) fills the table a fresh association would, querying only
+/// where the lists cannot prove the answer (the others take their previous point's list as a
+/// seed, "Seeded queries"). The rows grow within the vectors' capacity: allocation-free when the
+/// cache and table were sized for `points` before being sized for the coarse level. The cache
+/// must hold its last call's lists for `table`.
+void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
+                  AssociationTable* table);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -301,20 +301,6 @@ Status validate(const RegistrationOptions& o) {
   return Status::Ok();
 }
 
-namespace {
-
-// The source points one outer iteration registers, with their association state: all of them,
-// or (RegistrationOptions::coarse_stride) every stride-th in Z-order during the EM coarse phase.
-struct SourceLevel {
-  PointCloud centered;                        // internal frame, Z-order
-  std::vector<Eigen::Vector3d> normals;       // source normals only: one per point
-  detail::AssociationTable assoc;             // its neighbours in the target
-  detail::NeighbourCache cache;               // candidate lists for exact incremental association
-  std::vector<Eigen::Vector3d> pair_normals;  // source normals only: one per association slot
-};
-
-}  // namespace
-
 struct Registration::Impl {
   RegistrationOptions options;
   Status options_status;
@@ -328,14 +314,21 @@ struct Registration::Impl {
   std::vector<detail::PlanePoint> target_plane_points;
   double target_surface_noise = 0.0;  // plane model only (target_normals.hpp)
   detail::PlaneModel plane;
-  // Plane model with source normals only: the source's k-d tree.
+  // Plane model with source normals only: the source's k-d tree and normals, one normal per
+  // association slot.
   detail::KdTree source_tree;
+  std::vector<Eigen::Vector3d> source_normals, pair_normals;
   // Per-alignment buffers, kept between calls so same-size registrations reuse them.
-  PointCloud source_filtered;
+  PointCloud source_filtered, source_centered;
+  // The coarse level (RegistrationOptions::coarse_stride > 1): every stride-th point of
+  // source_centered, registered while the EM scale is coarse, and its source normals. It uses the
+  // first rows of assoc and cache (spread_lists hands them to the full source).
+  PointCloud coarse_centered;
+  std::vector<Eigen::Vector3d> coarse_normals;
   std::vector<double> scratch;
   detail::SpatialSortScratch sort_scratch;
-  SourceLevel full;    // every source point
-  SourceLevel coarse;  // every coarse_stride-th, while the EM scale is coarse (coarse_stride > 1)
+  detail::AssociationTable assoc;
+  detail::NeighbourCache cache;  // candidate lists for exact incremental association
   detail::LMSolver lm;
 };
 
@@ -410,20 +403,21 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // Internal frame (see the file comment).
   Eigen::Vector3d source_origin;
   {
-    Status s = center_cloud("source", source.size(), &m.source_filtered, &m.full.centered,
+    Status s = center_cloud("source", source.size(), &m.source_filtered, &m.source_centered,
                             &source_origin, &result.source_non_finite, &m.scratch);
     if (!s.ok()) return refuse(s);
   }
   // Z-order: consecutive source points share their neighbours (spatial_order.hpp); both clouds
   // keep one order.
-  detail::spatial_sort(&m.full.centered, &m.source_filtered, &m.sort_scratch);
+  detail::spatial_sort(&m.source_centered, &m.source_filtered, &m.sort_scratch);
   const PointCloud& src = m.source_filtered;
   const std::size_t n = src.size();
   result.source_points = n;
   result.target_points = m.target_centered.size();
   result.target_non_finite = m.target_non_finite;
   double extent_sq = 0.0;
-  for (const Eigen::Vector3d& c : m.full.centered) extent_sq = std::max(extent_sq, c.squaredNorm());
+  for (const Eigen::Vector3d& c : m.source_centered)
+    extent_sq = std::max(extent_sq, c.squaredNorm());
   // Lengths the LM step tolerance, the coarse E-step scale and the motion guards are relative
   // to: the radius, unless the radius exceeds the source's extent (a radius of 1e6 m on a 2 m
   // cloud means "no radius", not "steps of 0.1 m are negligible").
@@ -442,31 +436,31 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // set_target fitted the target's normals (the error model is fixed per Registration).
   const bool use_pair_normals = o.error_model == ErrorModel::kPlane && o.plane.source_normals;
   if (use_pair_normals) {
-    Status s = m.source_tree.build(m.full.centered);
+    Status s = m.source_tree.build(m.source_centered);
     if (!s.ok()) return refuse(s);
-    detail::compute_normals(m.full.centered, m.source_tree, o.plane.normal_neighbours,
-                            o.num_threads, &m.full.normals);
+    detail::compute_normals(m.source_centered, m.source_tree, o.plane.normal_neighbours,
+                            o.num_threads, &m.source_normals);
   }
-  // The coarse level: every stride-th point in Z-order, so spread over the whole cloud.
+  m.assoc.resize(n, k);
+  if (use_cache) m.cache.resize(n, cache_capacity);  // also forgets the previous source's lists
+  if (use_pair_normals) m.pair_normals.resize(m.assoc.index.size());
+  // The coarse level: every stride-th point in Z-order, so spread over the whole cloud. The table
+  // and cache shrink to its rows and grow back at the switch within their capacity (sized for n
+  // just above): no allocation, no second table.
   const std::size_t stride = coarse_stride(o, n);
   const bool use_coarse = stride > 1;
   if (use_coarse) {
     const std::size_t n_coarse = (n + stride - 1) / stride;
-    m.coarse.centered.resize(n_coarse);
-    if (use_pair_normals) m.coarse.normals.resize(n_coarse);
+    m.coarse_centered.resize(n_coarse);
+    if (use_pair_normals) m.coarse_normals.resize(n_coarse);
     for (std::size_t i = 0; i < n_coarse; ++i) {
-      m.coarse.centered[i] = m.full.centered[i * stride];
-      if (use_pair_normals) m.coarse.normals[i] = m.full.normals[i * stride];
+      m.coarse_centered[i] = m.source_centered[i * stride];
+      if (use_pair_normals) m.coarse_normals[i] = m.source_normals[i * stride];
     }
+    m.assoc.resize(n_coarse, k);
+    if (use_cache) m.cache.resize(n_coarse, cache_capacity);
   }
-  for (SourceLevel* level : {&m.full, &m.coarse}) {
-    if (level == &m.coarse && !use_coarse) break;
-    const std::size_t points = level->centered.size();
-    level->assoc.resize(points, k);
-    // Also forgets the previous source's lists.
-    if (use_cache) level->cache.resize(points, cache_capacity);
-    if (use_pair_normals) level->pair_normals.resize(level->assoc.index.size());
-  }
+  m.plane.pair_normals = use_pair_normals ? &m.pair_normals : nullptr;
   m.lm.resize(n, k);
   const CloudMoments moments = compute_moments(src);
   TerminationMonitor monitor(o.termination, moments, T_initial);
@@ -475,6 +469,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
 
   detail::LMProblem problem;
   problem.target = &m.target_centered;
+  problem.assoc = &m.assoc;
   problem.weights.model = o.weights.model;
   problem.weights.dof = o.weights.dof;
   problem.num_threads = o.num_threads;
@@ -496,14 +491,15 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   using Clock = std::chrono::steady_clock;
   StopReason reason = StopReason::kNone;
   Eigen::Isometry3d T_associated = T;  // pose of the last association
-  SourceLevel* associated = nullptr;   // the level associated there
+  bool coarse_associated = false;      // the table holds the coarse level's rows
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
-    SourceLevel& level = use_coarse && scale.coarse() ? m.coarse : m.full;
+    const bool coarse = use_coarse && scale.coarse();
+    const PointCloud& cloud = coarse ? m.coarse_centered : m.source_centered;
     // Association (paper Sec. 3.1), unless no source point can have moved more than
     // reassociate_motion x radius since the last one: a point x moves by
     // |(R - R_a) x + (t - t_a)| <= |R - R_a|_2 |x| + |t - t_a|, |R - R_a|_2 = 2 sin(angle / 2).
-    bool reassociate = associated != &level || o.reassociate_motion <= 0.0;
+    bool reassociate = t == 1 || coarse != coarse_associated || o.reassociate_motion <= 0.0;
     if (!reassociate) {
       const Eigen::AngleAxisd rotation(T.linear() * T_associated.linear().transpose());
       const double bound = 2.0 * std::sin(0.5 * std::abs(rotation.angle())) * source_extent +
@@ -511,31 +507,30 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       reassociate = !(bound <= o.reassociate_motion * reference_length);
     }
     if (reassociate) {
+      // The first fine-phase iteration: the table (and the lists) grow to every point, the
+      // coarse points keeping theirs.
+      const bool spread = coarse_associated && !coarse;
       if (use_cache) {
-        // The first fine-phase iteration: the coarse level's lists serve its points.
-        if (&level == &m.full && associated == &m.coarse) {
-          detail::adopt_lists(m.coarse.cache, m.coarse.assoc, stride, &m.full.cache, &m.full.assoc);
-        }
-        detail::associate_cached(m.tree, m.target_centered, level.centered, T, o.radius,
-                                 o.num_threads, &level.cache, &level.assoc);
+        if (spread) detail::spread_lists(stride, n, &m.cache, &m.assoc);
+        detail::associate_cached(m.tree, m.target_centered, cloud, T, o.radius, o.num_threads,
+                                 &m.cache, &m.assoc);
       } else {
-        detail::associate(m.tree, level.centered, T, radius_sq, o.num_threads, &level.assoc);
+        if (spread) m.assoc.resize(n, k);
+        detail::associate(m.tree, cloud, T, radius_sq, o.num_threads, &m.assoc);
       }
       T_associated = T;
-      associated = &level;
+      coarse_associated = coarse;
       // Source normals: each pair's normal, frozen until the next re-association.
       if (use_pair_normals) {
-        detail::compute_pair_normals(level.assoc, m.target_plane_points, level.normals, T.linear(),
-                                     o.num_threads, &level.pair_normals);
+        detail::compute_pair_normals(m.assoc, m.target_plane_points,
+                                     coarse ? m.coarse_normals : m.source_normals, T.linear(),
+                                     o.num_threads, &m.pair_normals);
       }
     }
-    const detail::AssociationTable& assoc = level.assoc;
-    problem.source = &level.centered;
-    problem.assoc = &assoc;
-    m.plane.pair_normals = use_pair_normals ? &level.pair_normals : nullptr;
-    result.matched_source_points = assoc.matched;
-    result.correspondences = assoc.pairs;
-    if (assoc.pairs == 0) {
+    problem.source = &cloud;
+    result.matched_source_points = m.assoc.matched;
+    result.correspondences = m.assoc.pairs;
+    if (m.assoc.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
       if (t == 1) {
         result.status =
@@ -581,7 +576,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     }
     // EM estimate of s^2 at the final pose: sum w r / (3 N) = 2 final_cost / (3 N).
     scale.update(monitor.last_cost_drop(), std::sqrt(monitor.last_mse_prev()),
-                 2.0 * lm.final_cost / (3.0 * static_cast<double>(assoc.matched)));
+                 2.0 * lm.final_cost / (3.0 * static_cast<double>(m.assoc.matched)));
     if (o.record_history || o.on_iteration) {
       IterationRecord r;
       r.iteration = t;
@@ -596,8 +591,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
         r.benchmark_error = benchmark_error(src, *T_ground_truth, result.T_target_source);
       }
       r.scale = std::sqrt(scale_sq);
-      r.correspondences = assoc.pairs;
-      r.matched_source_points = assoc.matched;
+      r.correspondences = m.assoc.pairs;
+      r.matched_source_points = m.assoc.matched;
       r.T_target_source = result.T_target_source;
       r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       if (o.on_iteration && !o.on_iteration(r) && reason == StopReason::kNone) {
@@ -622,10 +617,11 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // solver, does use the pair normals).
   constexpr double kDegenerateRatio = 1e-2;
   result.information = m.lm.last().H;
-  if (o.error_model == ErrorModel::kPlane && associated != nullptr && result.iterations > 0) {
-    // The level the last solve registered (and whose weights the solver holds).
+  if (o.error_model == ErrorModel::kPlane && result.iterations > 0) {
+    // The points the table holds (the coarse level's after a stop in the coarse phase).
     const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
-        associated->centered, associated->assoc, T, m.lm.weights().data(), m.target_plane_points);
+        coarse_associated ? m.coarse_centered : m.source_centered, m.assoc, T,
+        m.lm.weights().data(), m.target_plane_points);
     const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
     detail::Vector6d scaling;
     scaling << rms, rms, rms, 1.0, 1.0, 1.0;

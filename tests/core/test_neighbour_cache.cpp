@@ -462,14 +462,14 @@ TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried
 }
 
 TEST_CASE(
-    "adopt_lists: a level that takes a coarser level's lists fills the tables of brute force and "
-    "of "
-    "a fresh cache, querying fewer points",
+    "spread_lists: after a coarse level's lists are spread over every point, the tables are those "
+    "of brute force and of a fresh cache, with fewer queries",
     "[association]") {
   // The registration's coarse phase (RegistrationOptions::coarse_stride): every stride-th point
-  // of a Z-ordered source drifts with its own cache; then every point, the coarse points' lists
-  // adopted. Adopted rows must be answered from their lists (fewer queries) and every table must
-  // be what brute force and a fresh cache give, indices, order and distances.
+  // of a Z-ordered source drifts in the first rows of a cache and table sized for every point;
+  // then every point, the coarse points' lists spread to their rows. Their rows must be
+  // answered from their lists (fewer queries) and every table must be what brute force and a
+  // fresh cache give, indices, order and distances.
   const Scene scene(58, 5000, 3000, 1.1);
   REQUIRE(scene.built);
   const PointCloud& target = scene.target;
@@ -485,23 +485,26 @@ TEST_CASE(
     INFO("stride " << stride);
     PointCloud coarse;
     for (std::size_t i = 0; i < source.size(); i += stride) coarse.push_back(source[i]);
-    NeighbourCache coarse_cache, cache;
-    coarse_cache.resize(coarse.size(), capacity);
-    cache.resize(source.size(), capacity);
-    AssociationTable coarse_table, table, fresh_table;
-    coarse_table.resize(coarse.size(), k);
+    NeighbourCache cache;
+    AssociationTable table, fresh_table;
+    cache.resize(source.size(), capacity);  // as the registration: sized for every point first
     table.resize(source.size(), k);
+    const std::uint32_t* index_data = table.index.data();
+    cache.resize(coarse.size(), capacity);
+    table.resize(coarse.size(), k);
     fresh_table.resize(source.size(), k);
     for (std::size_t i = 0; i < kSwitch; ++i) {
-      ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, 1, &coarse_cache,
-                                     &coarse_table);
+      ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, 1, &cache, &table);
+      REQUIRE(table_mismatch(table, coarse, target, poses[i], radius * radius) == "");
     }
-    ppcr::detail::adopt_lists(coarse_cache, coarse_table, stride, &cache, &table);
+    ppcr::detail::spread_lists(stride, source.size(), &cache, &table);
+    CHECK(table.index.data() == index_data);  // grown within its capacity
     for (std::size_t i = kSwitch; i < poses.size(); ++i) {
       INFO("pose " << i);
       ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
       if (i == kSwitch) {
-        // Every point without a list is queried; most adopted ones are answered from theirs.
+        // Every point without a list is queried; most of the coarse points are answered from
+        // theirs.
         CHECK(cache.last_queries >= source.size() - coarse.size());
         CHECK(cache.last_queries < source.size() - coarse.size() / 2);
       }
@@ -515,9 +518,10 @@ TEST_CASE(
       std::size_t rows_differing = 0;
       for (std::size_t j = 0; j < source.size(); ++j) {
         const std::size_t begin = j * k, end = begin + table.count[j];
-        rows_differing +=
-            !std::equal(&table.index[begin], &table.index[end], &fresh_table.index[begin]) ||
-            !std::equal(&table.dist_sq[begin], &table.dist_sq[end], &fresh_table.dist_sq[begin]);
+        rows_differing += !std::equal(table.index.data() + begin, table.index.data() + end,
+                                      fresh_table.index.data() + begin) ||
+                          !std::equal(table.dist_sq.data() + begin, table.dist_sq.data() + end,
+                                      fresh_table.dist_sq.data() + begin);
       }
       CHECK(rows_differing == 0);
     }
@@ -576,8 +580,8 @@ TEST_CASE("registration with and without the neighbour cache gives the same pose
       CHECK((cached.T_target_source.linear() - T_true.linear()).norm() < 1e-2);
     }
   }
-  // A coarse level (the plane model's default stride 2 here: 2500 points) hands its lists to the
-  // full level: the same pose as without the cache, with that stride.
+  // A coarse level (the plane model's default stride 2 here: 2500 points) spreads its lists over
+  // every point at the switch: the same pose as without the cache, with that stride.
   ppcr::RegistrationOptions o;
   o.radius = 0.2;
   o.coarse_stride = 2;
