@@ -273,13 +273,13 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
                   AssociationTable* table) {
   const std::size_t coarse = cache->count.size();
-  assert(cache->table == table && table->count.size() == coarse && stride >= 1 &&
+  assert(cache->table == table && table->count.size() == coarse && stride >= 2 &&
          (coarse == 0 || (coarse - 1) * stride < points));
   const std::size_t capacity = static_cast<std::size_t>(cache->capacity);
   const std::size_t k = static_cast<std::size_t>(table->k);
   // Grow (vector::resize keeps the rows held), then move row i to i * stride from the last row
-  // down: its destination is at or past its own place, so no row still to move is overwritten,
-  // and for stride >= 2 a row never overlaps its destination.
+  // down: its destination lies past its own place (stride >= 2), so no row still to move is
+  // overwritten and no row overlaps its destination.
   cache->index.resize(points * capacity);
   cache->count.resize(points);
   cache->query.resize(points);

@@ -145,15 +145,15 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 
 /// Spreads a coarse level's lists over the full source, in place (RegistrationOptions::
 /// coarse_stride): the cache and table hold one row per point of the coarse level, whose point i
-/// is point i * stride of the full source; afterwards they hold `points` rows, row i * stride
-/// being the old row i (candidates, bounds, certificates, and the table row they certify) and
-/// every other point without a list. The certificates speak of a source point's positions and the
-/// tree, not of the cloud that holds the point, so the next associate_cached with the full source
-/// (same tree, target, k and radius) fills the table a fresh association would, querying only
-/// where the lists cannot prove the answer (the others take their previous point's list as a
-/// seed, "Seeded queries"). The rows grow within the vectors' capacity: allocation-free when the
-/// cache and table were sized for `points` before being sized for the coarse level. The cache
-/// must hold its last call's lists for `table`.
+/// is point i * stride of the full source (stride >= 2); afterwards they hold `points` rows, row i
+/// * stride being the old row i (candidates, bounds, certificates, and the table row they certify)
+/// and every other point without a list. The certificates speak of a source point's positions and
+/// the tree, not of the cloud that holds the point, so the next associate_cached with the full
+/// source (same tree, target, k and radius) fills the table a fresh association would, querying
+/// only where the lists cannot prove the answer (a list-less point's query is bounded by its
+/// previous point's list when that list is long enough, "Seeded queries"). The rows grow within the
+/// vectors' capacity: allocation-free when the cache and table were sized for `points` before being
+/// sized for the coarse level. The cache must hold its last call's lists for `table`.
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
                   AssociationTable* table);
 

@@ -10,6 +10,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -229,10 +230,10 @@ Status validate(const RegistrationOptions& o) {
     return invalid("neighbour_cache must be >= 0, got " + std::to_string(o.neighbour_cache));
   }
   if (o.coarse_stride != RegistrationOptions::kAutomatic &&
-      (o.coarse_stride < 1 || o.coarse_stride > 64)) {
+      (o.coarse_stride < 1 || o.coarse_stride > RegistrationOptions::kMaxCoarseStride)) {
     return invalid(
-        "coarse_stride must be in [1, 64] or RegistrationOptions::kAutomatic (-1), got " +
-        std::to_string(o.coarse_stride));
+        "coarse_stride must be in [1, " + std::to_string(RegistrationOptions::kMaxCoarseStride) +
+        "] or RegistrationOptions::kAutomatic (-1), got " + std::to_string(o.coarse_stride));
   }
   if (!non_negative(o.reassociate_motion)) {
     return invalid("reassociate_motion must be >= 0, got " + num(o.reassociate_motion));
@@ -448,7 +449,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   // and cache shrink to its rows and grow back at the switch within their capacity (sized for n
   // just above): no allocation, no second table.
   const std::size_t stride = coarse_stride(o, n);
-  const bool use_coarse = stride > 1;
+  bool use_coarse = stride > 1;  // dropped if the coarse level finds no pair (below)
   if (use_coarse) {
     const std::size_t n_coarse = (n + stride - 1) / stride;
     m.coarse_centered.resize(n_coarse);
@@ -485,6 +486,9 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     weights.em_min_scale = std::max(weights.em_min_scale, noise_floor);
   }
   detail::ScaleSchedule scale(weights, reference_length);
+  // The table holds the coarse level's rows until the coarse phase ends (coarse_stride() is 1
+  // without the EM scale, whose schedule starts coarse).
+  assert(!use_coarse || scale.coarse());
   const double fine_tolerance = fine_phase_tolerance(o);
   const double radius_sq = o.radius * o.radius;
 
@@ -492,12 +496,34 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
   StopReason reason = StopReason::kNone;
   Eigen::Isometry3d T_associated = T;  // pose of the last association
   bool coarse_associated = false;      // the table holds the coarse level's rows
+  // Association (paper Sec. 3.1) at T of the coarse level or of every point, into m.assoc (and
+  // each pair's normal with source normals, frozen until the next association).
+  auto associate_at = [&](bool coarse) {
+    const PointCloud& cloud = coarse ? m.coarse_centered : m.source_centered;
+    // From the coarse level to every point: the table (and the lists) grow, the coarse points
+    // keeping theirs.
+    const bool spread = coarse_associated && !coarse;
+    if (use_cache) {
+      if (spread) detail::spread_lists(stride, n, &m.cache, &m.assoc);
+      detail::associate_cached(m.tree, m.target_centered, cloud, T, o.radius, o.num_threads,
+                               &m.cache, &m.assoc);
+    } else {
+      if (spread) m.assoc.resize(n, k);
+      detail::associate(m.tree, cloud, T, radius_sq, o.num_threads, &m.assoc);
+    }
+    T_associated = T;
+    coarse_associated = coarse;
+    if (use_pair_normals) {
+      detail::compute_pair_normals(m.assoc, m.target_plane_points,
+                                   coarse ? m.coarse_normals : m.source_normals, T.linear(),
+                                   o.num_threads, &m.pair_normals);
+    }
+  };
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
-    const bool coarse = use_coarse && scale.coarse();
-    const PointCloud& cloud = coarse ? m.coarse_centered : m.source_centered;
-    // Association (paper Sec. 3.1), unless no source point can have moved more than
-    // reassociate_motion x radius since the last one: a point x moves by
+    bool coarse = use_coarse && scale.coarse();
+    // Re-associate unless no source point can have moved more than reassociate_motion x radius
+    // since the last association: a point x moves by
     // |(R - R_a) x + (t - t_a)| <= |R - R_a|_2 |x| + |t - t_a|, |R - R_a|_2 = 2 sin(angle / 2).
     bool reassociate = t == 1 || coarse != coarse_associated || o.reassociate_motion <= 0.0;
     if (!reassociate) {
@@ -507,26 +533,15 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       reassociate = !(bound <= o.reassociate_motion * reference_length);
     }
     if (reassociate) {
-      // The first fine-phase iteration: the table (and the lists) grow to every point, the
-      // coarse points keeping theirs.
-      const bool spread = coarse_associated && !coarse;
-      if (use_cache) {
-        if (spread) detail::spread_lists(stride, n, &m.cache, &m.assoc);
-        detail::associate_cached(m.tree, m.target_centered, cloud, T, o.radius, o.num_threads,
-                                 &m.cache, &m.assoc);
-      } else {
-        if (spread) m.assoc.resize(n, k);
-        detail::associate(m.tree, cloud, T, radius_sq, o.num_threads, &m.assoc);
-      }
-      T_associated = T;
-      coarse_associated = coarse;
-      // Source normals: each pair's normal, frozen until the next re-association.
-      if (use_pair_normals) {
-        detail::compute_pair_normals(m.assoc, m.target_plane_points,
-                                     coarse ? m.coarse_normals : m.source_normals, T.linear(),
-                                     o.num_threads, &m.pair_normals);
+      associate_at(coarse);
+      // The coarse level found no pair: its points may miss a small overlap that others reach.
+      // Every point from now on.
+      if (coarse && m.assoc.pairs == 0) {
+        use_coarse = coarse = false;
+        associate_at(false);
       }
     }
+    const PointCloud& cloud = coarse ? m.coarse_centered : m.source_centered;
     problem.source = &cloud;
     result.matched_source_points = m.assoc.matched;
     result.correspondences = m.assoc.pairs;

@@ -58,7 +58,8 @@ struct RegistrationOptions {
   /// cloud) is associated and registered; from the first fine-phase iteration on, every point
   /// (the coarse phase's neighbour lists carried over). The coarse phase only brings the source
   /// near its place at a wide scale; the fine phase, on every point, sets the accuracy. 1 = every
-  /// point throughout (the paper). kAutomatic: kPlaneCoarseStride with the plane model, 1 with
+  /// point throughout (the paper); at most kMaxCoarseStride. kAutomatic: kPlaneCoarseStride with
+  /// the plane model, 1 with
   /// the point model. Lowered to the source's size / kMinCoarsePoints where that is smaller (a
   /// source of fewer than 2 x kMinCoarsePoints points is registered whole). Measured
   /// (docs/PERFORMANCE.md, update "coarse-phase subsampling"; 350 lidar problems: the
@@ -71,10 +72,12 @@ struct RegistrationOptions {
   /// kMinCoarsePoints is a floor, not tuned: the sets' levels hold 3.4k-4.2k points at stride 2.
   /// While the coarse level is registered, the history's correspondences and
   /// matched_source_points count its points; a run that stops there (an iteration cap, a
-  /// cancel) reports the coarse level's counts and information.
+  /// cancel) reports the coarse level's counts and information. A coarse level that finds no
+  /// pair is dropped for the rest of the run (every point is associated instead).
   int coarse_stride = kAutomatic;
   static constexpr int kAutomatic = -1;
   static constexpr int kPlaneCoarseStride = 2;
+  static constexpr int kMaxCoarseStride = 64;
   static constexpr std::size_t kMinCoarsePoints = 1000;
   double source_voxel = 0.0;   // voxel leaf for the source, cloud units (0 = no filtering)
   double target_voxel = 0.0;   // voxel leaf for the target, cloud units (0 = no filtering)
@@ -94,13 +97,15 @@ struct IterationRecord {
   int unsuccessful_steps = 0;  // LM rejected steps
   double initial_cost = 0.0;   // inner problem's cost before / after LM
   double final_cost = 0.0;
-  double cost_drop = 0.0;           // (initial - final) / initial; NaN when initial is 0
-  double mse_prev = 0.0;            // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5)
-  double mse_ground_truth = -1.0;   // mean |T_t x - T_gt x|^2; -1 without a ground truth
-  double benchmark_error = -1.0;    // benchmark metric w.r.t. the ground truth; -1 without one
-  double scale = 0.0;               // s used by the E-step (cloud units; 1 in raw mode)
-  std::size_t correspondences = 0;  // associated (source, target) pairs
-  std::size_t matched_source_points = 0;  // source points with at least one neighbour
+  double cost_drop = 0.0;          // (initial - final) / initial; NaN when initial is 0
+  double mse_prev = 0.0;           // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5)
+  double mse_ground_truth = -1.0;  // mean |T_t x - T_gt x|^2; -1 without a ground truth
+  double benchmark_error = -1.0;   // benchmark metric w.r.t. the ground truth; -1 without one
+  double scale = 0.0;              // s used by the E-step (cloud units; 1 in raw mode)
+  // Associated (source, target) pairs and source points with at least one neighbour; of the
+  // coarse level in the EM coarse phase (RegistrationOptions::coarse_stride).
+  std::size_t correspondences = 0;
+  std::size_t matched_source_points = 0;
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
   double time_ms = 0.0;  // wall time of this outer iteration
 };
@@ -118,8 +123,10 @@ struct RegistrationResult {
   double scale = 0.0;             // final E-step scale s (cloud units)
   std::size_t source_points = 0;  // source points registered (after filtering)
   std::size_t target_points = 0;  // target points (after filtering)
-  std::size_t matched_source_points = 0;  // source points with a neighbour, last iteration
-  std::size_t correspondences = 0;        // associated pairs, last iteration
+  // Source points with a neighbour and associated pairs, last iteration (of the coarse level,
+  // RegistrationOptions::coarse_stride, when the run stopped in the EM coarse phase).
+  std::size_t matched_source_points = 0;
+  std::size_t correspondences = 0;
   // Points dropped as non-finite, or so far from the cloud's median that their squared distance
   // overflows (|p - median| > ~1e154).
   std::size_t source_non_finite = 0;

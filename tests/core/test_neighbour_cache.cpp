@@ -497,8 +497,37 @@ TEST_CASE(
       ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, 1, &cache, &table);
       REQUIRE(table_mismatch(table, coarse, target, poses[i], radius * radius) == "");
     }
+    // The rows as they were, to check where spread_lists puts them.
+    const NeighbourCache before = cache;
+    const AssociationTable table_before = table;
+    const std::uint32_t* cache_data = cache.index.data();
     ppcr::detail::spread_lists(stride, source.size(), &cache, &table);
-    CHECK(table.index.data() == index_data);  // grown within its capacity
+    CHECK(table.index.data() == index_data);  // grown within their capacity
+    CHECK(cache.index.data() == cache_data);
+    REQUIRE(cache.count.size() == source.size());
+    REQUIRE(table.count.size() == source.size());
+    std::size_t misplaced = 0, listed_others = 0;
+    for (std::size_t j = 0; j < source.size(); ++j) {
+      if (j % stride != 0) {
+        listed_others += cache.bound[j] >= 0.0 || cache.set_radius_sq[j] >= 0.0;
+        continue;
+      }
+      const std::size_t i = j / stride;
+      const auto row = [](const auto& v, std::size_t r, std::size_t width) {
+        return std::vector<typename std::decay_t<decltype(v)>::value_type>(
+            v.begin() + static_cast<std::ptrdiff_t>(r * width),
+            v.begin() + static_cast<std::ptrdiff_t>((r + 1) * width));
+      };
+      misplaced += cache.count[j] != before.count[i] || cache.bound[j] != before.bound[i] ||
+                   cache.query[j] != before.query[i] || cache.ranked_at[j] != before.ranked_at[i] ||
+                   cache.set_radius_sq[j] != before.set_radius_sq[i] ||
+                   row(cache.index, j, capacity) != row(before.index, i, capacity) ||
+                   table.count[j] != table_before.count[i] ||
+                   row(table.index, j, k) != row(table_before.index, i, k) ||
+                   row(table.dist_sq, j, k) != row(table_before.dist_sq, i, k);
+    }
+    CHECK(misplaced == 0);
+    CHECK(listed_others == 0);
     for (std::size_t i = kSwitch; i < poses.size(); ++i) {
       INFO("pose " << i);
       ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);

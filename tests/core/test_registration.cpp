@@ -1031,8 +1031,17 @@ TEST_CASE(
   REQUIRE(RegistrationOptions().coarse_stride == RegistrationOptions::kAutomatic);
   REQUIRE(RegistrationOptions::kPlaneCoarseStride == 2);
   REQUIRE(RegistrationOptions::kMinCoarsePoints == 1000);
-  auto pose_with = [](const Scene& sc, ppcr::ErrorModel model, int stride,
-                      ppcr::ScaleMode scale = ppcr::ScaleMode::kEM) {
+  // A run's pose, LM steps and first iteration's pairs (the coarse level's, if it had one).
+  struct Run {
+    Eigen::Matrix4d pose;
+    int lm_iterations;
+    std::size_t first_pairs;
+    bool operator==(const Run& b) const {
+      return pose == b.pose && lm_iterations == b.lm_iterations && first_pairs == b.first_pairs;
+    }
+  };
+  auto run_with = [](const Scene& sc, ppcr::ErrorModel model, int stride,
+                     ppcr::ScaleMode scale = ppcr::ScaleMode::kEM) {
     RegistrationOptions o = scene_options();
     o.error_model = model;
     o.coarse_stride = stride;
@@ -1040,41 +1049,105 @@ TEST_CASE(
     if (scale == ppcr::ScaleMode::kFixed) o.weights.scale = 0.02;
     const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
     REQUIRE(r.status.ok());
-    return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
+    REQUIRE(!r.history.empty());
+    return Run{r.T_target_source.matrix(), r.lm_iterations, r.history.front().correspondences};
   };
   using ppcr::ErrorModel;
   const int kAuto = RegistrationOptions::kAutomatic;
   const Scene sc = make_scene(3000, 20000, false);
   // Plane model: the run of stride 2, to the bit; not the run of stride 1.
-  const auto plane_auto = pose_with(sc, ErrorModel::kPlane, kAuto);
-  const auto plane_2 = pose_with(sc, ErrorModel::kPlane, 2);
-  const auto plane_1 = pose_with(sc, ErrorModel::kPlane, 1);
-  CHECK(plane_auto.first == plane_2.first);
-  CHECK(plane_auto.second == plane_2.second);
-  CHECK(plane_auto.first != plane_1.first);
+  const Run plane_auto = run_with(sc, ErrorModel::kPlane, kAuto);
+  const Run plane_2 = run_with(sc, ErrorModel::kPlane, 2);
+  const Run plane_1 = run_with(sc, ErrorModel::kPlane, 1);
+  CHECK(plane_auto == plane_2);
+  CHECK(plane_auto.pose != plane_1.pose);
+  CHECK(plane_2.first_pairs < plane_1.first_pairs * 6 / 10);  // about half the points
   // Point model: the run of stride 1.
-  const auto point_auto = pose_with(sc, ErrorModel::kPoint, kAuto);
-  const auto point_1 = pose_with(sc, ErrorModel::kPoint, 1);
-  const auto point_2 = pose_with(sc, ErrorModel::kPoint, 2);
-  CHECK(point_auto.first == point_1.first);
-  CHECK(point_auto.second == point_1.second);
-  CHECK(point_auto.first != point_2.first);
+  const Run point_auto = run_with(sc, ErrorModel::kPoint, kAuto);
+  const Run point_1 = run_with(sc, ErrorModel::kPoint, 1);
+  const Run point_2 = run_with(sc, ErrorModel::kPoint, 2);
+  CHECK(point_auto == point_1);
+  CHECK(point_auto.pose != point_2.pose);
   // 3000 points keep stride 3 (1000 points), lower stride 4 to 3.
-  const auto plane_3 = pose_with(sc, ErrorModel::kPlane, 3);
-  const auto plane_4 = pose_with(sc, ErrorModel::kPlane, 4);
-  CHECK(plane_4.first == plane_3.first);
-  CHECK(plane_3.first != plane_2.first);
-  // Without the EM scale there is no coarse phase: any stride is the run of stride 1.
-  const auto fixed_4 = pose_with(sc, ErrorModel::kPlane, 4, ppcr::ScaleMode::kFixed);
-  const auto fixed_1 = pose_with(sc, ErrorModel::kPlane, 1, ppcr::ScaleMode::kFixed);
-  CHECK(fixed_4.first == fixed_1.first);
-  CHECK(fixed_4.second == fixed_1.second);
+  const Run plane_3 = run_with(sc, ErrorModel::kPlane, 3);
+  const Run plane_4 = run_with(sc, ErrorModel::kPlane, 4);
+  CHECK(plane_4 == plane_3);
+  CHECK(plane_3.pose != plane_2.pose);
+  // Without the EM scale there is no coarse phase: any stride is the run of stride 1 (the same
+  // pairs from the first iteration on).
+  const Run fixed_4 = run_with(sc, ErrorModel::kPlane, 4, ppcr::ScaleMode::kFixed);
+  const Run fixed_1 = run_with(sc, ErrorModel::kPlane, 1, ppcr::ScaleMode::kFixed);
+  CHECK(fixed_4 == fixed_1);
   // Below 2000 points, the whole source: automatic is the run of stride 1.
   const Scene small = make_scene(1999, 20000, false);
-  const auto small_auto = pose_with(small, ErrorModel::kPlane, kAuto);
-  const auto small_1 = pose_with(small, ErrorModel::kPlane, 1);
-  CHECK(small_auto.first == small_1.first);
-  CHECK(small_auto.second == small_1.second);
+  CHECK(run_with(small, ErrorModel::kPlane, kAuto) == run_with(small, ErrorModel::kPlane, 1));
+}
+
+TEST_CASE(
+    "a Registration reused across sizes, and after a run cancelled in the coarse phase, equals "
+    "one-shot align with the coarse level",
+    "[registration]") {
+  const Scene a = make_scene(3000, 20000, false, 101);
+  const Scene b = make_scene(2500, 20000, false, 102);
+  bool cancel = false;
+  RegistrationOptions o = scene_options();  // the automatic stride: 2 for both sources
+  o.on_iteration = [&cancel](const ppcr::IterationRecord& r) {
+    return !(cancel && r.iteration >= 2);
+  };
+  const RegistrationResult a_once = ppcr::align(a.source, a.target, o);
+  const RegistrationResult b_once = ppcr::align(b.source, a.target, o);
+  REQUIRE(a_once.status.ok());
+  REQUIRE(b_once.status.ok());
+  for (bool cancel_first : {false, true}) {
+    INFO("first run " << (cancel_first ? "cancelled in the coarse phase" : "complete"));
+    ppcr::Registration reg(o);
+    REQUIRE(reg.set_target(a.target).ok());
+    cancel = cancel_first;
+    const RegistrationResult a1 = reg.align(a.source);
+    cancel = false;
+    if (cancel_first) {
+      REQUIRE(a1.stop_reason == StopReason::kCancelled);
+      CHECK(a1.matched_source_points <= 1500);  // the coarse level's rows
+    } else {
+      CHECK(a1.T_target_source.matrix() == a_once.T_target_source.matrix());
+    }
+    const RegistrationResult b1 = reg.align(b.source);
+    const RegistrationResult a2 = reg.align(a.source);
+    CHECK(b1.T_target_source.matrix() == b_once.T_target_source.matrix());
+    CHECK(b1.iterations == b_once.iterations);
+    CHECK(a2.T_target_source.matrix() == a_once.T_target_source.matrix());
+    CHECK(a2.iterations == a_once.iterations);
+    CHECK(a2.correspondences == a_once.correspondences);
+  }
+}
+
+TEST_CASE("a coarse level that finds no pair gives way to every point", "[registration]") {
+  // One source point lies in the target's reach, 4000 others far from it: a coarse level that
+  // leaves that point out finds no pair. The run must not stop for want of correspondences, as
+  // the run with every point does not, and then equals it.
+  Rng rng(9);
+  const PointCloud target = core_test::uniform_cloud(rng, 2000, -0.5, 0.5);
+  PointCloud source;
+  for (int i = 0; i < 2000; ++i) {
+    const double x = -10.0 + 20.0 * (i % 50) / 49.0, y = -10.0 + 20.0 * (i / 50) / 39.0;
+    source.emplace_back(x, y, 50.0);
+    source.emplace_back(x, y, -50.0);
+  }
+  source.emplace_back(0.01, -0.02, 0.03);  // the one near point, mid-cloud in Z-order
+  RegistrationOptions o;
+  o.radius = 0.2;
+  o.coarse_stride = 1;
+  const RegistrationResult every = ppcr::align(source, target, o);
+  REQUIRE(every.status.code() != StatusCode::kNoCorrespondences);
+  REQUIRE(every.matched_source_points == 1);
+  for (int stride = 2; stride <= 4; ++stride) {  // 4001 points: none lowered
+    INFO("stride " << stride);
+    o.coarse_stride = stride;
+    const RegistrationResult r = ppcr::align(source, target, o);
+    CHECK(r.status.code() == every.status.code());
+    CHECK(r.stop_reason == every.stop_reason);
+    CHECK(r.matched_source_points == 1);
+  }
 }
 
 TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surface noise",

@@ -101,8 +101,9 @@ void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
                  "EM scale: register every this-th source point during the coarse phase, every "
                  "point after it: auto (default: " +
                      std::to_string(ppcr::RegistrationOptions::kPlaneCoarseStride) +
-                     " with the plane model, 1 with the point model) or an integer in [1, 64] "
-                     "(1 = every point throughout, the paper); lowered to keep at least " +
+                     " with the plane model, 1 with the point model) or an integer in [1, " +
+                     std::to_string(ppcr::RegistrationOptions::kMaxCoarseStride) +
+                     "] (1 = every point throughout, the paper); lowered to keep at least " +
                      std::to_string(ppcr::RegistrationOptions::kMinCoarsePoints) + " points");
   app.add_option("--lm-tolerance", f->lm_tolerance,
                  "inner LM: stop after a step lowering the cost by less than this fraction of it "
@@ -233,9 +234,11 @@ ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o
   if (f.coarse_stride == "auto") {
     o->coarse_stride = ppcr::RegistrationOptions::kAutomatic;
   } else {
+    const int max_stride = ppcr::RegistrationOptions::kMaxCoarseStride;
     double v = 0.0;
-    if (!(parse_finite(f.coarse_stride, &v) && v >= 1.0 && v <= 64.0 && v == std::floor(v))) {
-      return bad("--coarse-stride", f.coarse_stride, "expected auto or an integer in [1, 64]");
+    if (!(parse_finite(f.coarse_stride, &v) && v >= 1.0 && v <= max_stride && v == std::floor(v))) {
+      return bad("--coarse-stride", f.coarse_stride,
+                 "expected auto or an integer in [1, " + std::to_string(max_stride) + "]");
     }
     if (v > 1.0 && f.scale != "em") {
       return bad("--coarse-stride", f.coarse_stride, "needs --scale em, got --scale " + f.scale);
