@@ -302,7 +302,7 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
     table->count[j] = table->count[i];
   }
   for (std::size_t j = 0; j < points; ++j) {
-    if (j % stride != 0 || j / stride >= coarse) {  // no list: queried by the next call
+    if (j % stride != 0) {  // no list: queried by the next call (j / stride < coarse otherwise)
       cache->bound[j] = -1.0;
       cache->set_radius_sq[j] = -1.0;
     }

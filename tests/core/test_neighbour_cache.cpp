@@ -92,6 +92,14 @@ struct Scene {
   std::vector<Eigen::Isometry3d> poses;
 };
 
+// The scene's source in Z-order, as the registration passes it.
+PointCloud z_ordered(const PointCloud& cloud) {
+  PointCloud sorted = cloud;
+  ppcr::detail::SpatialSortScratch sort_scratch;
+  ppcr::detail::spatial_sort(&sorted, nullptr, &sort_scratch);
+  return sorted;
+}
+
 // A translation by x along the x axis.
 Eigen::Isometry3d at(double x) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -142,9 +150,7 @@ TEST_CASE("associate_cached equals brute force along a sequence of poses", "[ass
   const Scene scene(51, 3000, 1200, 1.3);
   REQUIRE(scene.built);
   const PointCloud& target = scene.target;
-  PointCloud source = scene.source;
-  ppcr::detail::SpatialSortScratch sort_scratch;
-  ppcr::detail::spatial_sort(&source, nullptr, &sort_scratch);
+  const PointCloud source = z_ordered(scene.source);
   const KdTree& tree = scene.tree;
   const std::vector<Eigen::Isometry3d>& poses = scene.poses;
   std::size_t later_neighbour_seeded = 0;  // neighbour-seeded queries after each first call
@@ -473,9 +479,7 @@ TEST_CASE(
   const Scene scene(58, 5000, 3000, 1.1);
   REQUIRE(scene.built);
   const PointCloud& target = scene.target;
-  PointCloud source = scene.source;
-  ppcr::detail::SpatialSortScratch sort_scratch;
-  ppcr::detail::spatial_sort(&source, nullptr, &sort_scratch);
+  const PointCloud source = z_ordered(scene.source);
   const KdTree& tree = scene.tree;
   const std::vector<Eigen::Isometry3d>& poses = scene.poses;
   const double radius = 0.15;
