@@ -1,6 +1,8 @@
 // pair_normals.cpp - per-association normals from target and source normals (see header).
 #include "pair_normals.hpp"
 
+#include <cstdint>
+
 #include "parallel.hpp"
 
 namespace ppcr {
@@ -19,17 +21,47 @@ void compute_pair_normals(const AssociationTable& assoc,
     const std::size_t count = assoc.count[j];
     if (count == 0) return;
     const Eigen::Vector3d m = R_target_source * source_normals[j];  // zero stays zero
-    const bool has_source_normal = m.squaredNorm() > 0.0;
-    for (std::size_t q = 0; q < count; ++q) {
-      const std::size_t slot = j * k + q;
-      const Eigen::Vector3d& n = target_points[assoc.index[slot]].n;
-      if (!has_source_normal || n.squaredNorm() == 0.0) {
-        out[slot] = n;
+    const std::size_t first = j * k;
+    const std::uint32_t* idx = &assoc.index[first];
+    if (m.squaredNorm() == 0.0) {  // no source normal: the target's own
+      for (std::size_t q = 0; q < count; ++q) out[first + q] = target_points[idx[q]].n;
+      return;
+    }
+    // n + s m with s the sign of n . m.
+    auto oriented_sum = [&m](const Eigen::Vector3d& n) -> Eigen::Vector3d {
+      return n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
+    };
+    // One pair; a target point without a normal keeps 0.
+    auto one_pair = [&](std::size_t q) {
+      const Eigen::Vector3d& n = target_points[idx[q]].n;
+      if (n.squaredNorm() == 0.0) {
+        out[first + q] = n;
+      } else {
+        const Eigen::Vector3d sum = oriented_sum(n);
+        out[first + q] = sum / sum.norm();
+      }
+    };
+    std::size_t q = 0;
+    // Two pairs per step, their coordinates in lanes (x0, x1), (y0, y1), (z0, z1): one square
+    // root and three divisions serve both, the cost of this function (docs/PERFORMANCE.md). Each
+    // lane computes sum / |sum| as Eigen's sum / sum.norm() does, |sum|^2 = (x^2 + y^2) + z^2
+    // then a correctly rounded root and divisions, so the bits are the same (test_pair_normals).
+    for (; q + 2 <= count; q += 2) {
+      const Eigen::Vector3d& n0 = target_points[idx[q]].n;
+      const Eigen::Vector3d& n1 = target_points[idx[q + 1]].n;
+      if (n0.squaredNorm() == 0.0 || n1.squaredNorm() == 0.0) {  // rare: one at a time
+        one_pair(q);
+        one_pair(q + 1);
         continue;
       }
-      const Eigen::Vector3d sum = n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
-      out[slot] = sum / sum.norm();
+      const Eigen::Vector3d a = oriented_sum(n0), b = oriented_sum(n1);
+      const Eigen::Array2d x(a.x(), b.x()), y(a.y(), b.y()), z(a.z(), b.z());
+      const Eigen::Array2d norm = ((x * x + y * y) + z * z).sqrt();
+      const Eigen::Array2d xn = x / norm, yn = y / norm, zn = z / norm;
+      out[first + q] = Eigen::Vector3d(xn[0], yn[0], zn[0]);
+      out[first + q + 1] = Eigen::Vector3d(xn[1], yn[1], zn[1]);
     }
+    if (q < count) one_pair(q);
   });
 }
 

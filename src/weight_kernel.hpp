@@ -21,9 +21,11 @@
 //
 // The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
 // multiple of 1/8 up to 32 (nu a multiple of 0.25) by squaring and at most three square roots,
-// otherwise std::pow.
+// otherwise std::pow. The roots' kernel takes two neighbours per step in two lanes, to the same
+// bits (tests/core/test_weights.cpp).
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -41,8 +43,18 @@ struct PointWeights {
   double log_sum_exp = 0.0;  // logsumexp_k log p_k, constants dropped
 };
 
-/// q^e: the default nu = 5 (e = 4).
+/// The powers below take a double; PowerDyadic also an Eigen::Array2d (two lanes, one SSE2 / NEON
+/// operation each, kTwoLanes): a lane runs the scalar's operations in the scalar's order, and a
+/// square root or a division is correctly rounded in either form (IEEE 754), so both give the
+/// same bits.
+inline double square_root(double x) { return std::sqrt(x); }
+inline Eigen::Array2d square_root(const Eigen::Array2d& x) { return x.sqrt(); }
+inline double one_like(double) { return 1.0; }
+inline Eigen::Array2d one_like(const Eigen::Array2d&) { return Eigen::Array2d::Ones(); }
+
+/// q^e: the default nu = 5 (e = 4). Two multiplications: one lane (kTwoLanes below) is faster.
 struct PowerFour {
+  static constexpr bool kTwoLanes = false;
   double operator()(double q) const {
     const double q2 = q * q;
     return q2 * q2;
@@ -52,20 +64,22 @@ struct PowerFour {
 /// of square roots) for the set bits of the fraction. Half-integers (any integer dof) need one
 /// root; dof a multiple of 0.25 (e.g. 1.25, 1.5) at most three, instead of std::pow.
 struct PowerDyadic {
-  int whole;    // floor(e)
-  int eighths;  // (e - floor(e)) * 8, in [0, 8)
-  double operator()(double q) const {
-    double result = 1.0;
+  static constexpr bool kTwoLanes = true;  // the roots are the cost
+  int whole;                               // floor(e)
+  int eighths;                             // (e - floor(e)) * 8, in [0, 8)
+  template <class T>
+  T operator()(const T& q) const {
+    T result = one_like(q);
     if (eighths != 0) {
-      const double r2 = std::sqrt(q);  // q^(1/2)
+      const T r2 = square_root(q);  // q^(1/2)
       if (eighths & 4) result = r2;
       if (eighths & 3) {
-        const double r4 = std::sqrt(r2);  // q^(1/4)
+        const T r4 = square_root(r2);  // q^(1/4)
         if (eighths & 2) result *= r4;
-        if (eighths & 1) result *= std::sqrt(r4);  // q^(1/8)
+        if (eighths & 1) result *= square_root(r4);  // q^(1/8)
       }
     }
-    double base = q;
+    T base = q;
     for (int n = whole; n > 0; n >>= 1) {
       if (n & 1) result *= base;
       base *= base;
@@ -75,6 +89,7 @@ struct PowerDyadic {
 };
 /// q^e, any e.
 struct PowerGeneral {
+  static constexpr bool kTwoLanes = false;  // std::pow has no two-lane form that rounds alike
   double e;
   double operator()(double q) const { return std::pow(q, e); }
 };
@@ -110,7 +125,21 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   }
   const double nu_z_min = dof + z_min;
   double sum = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
+  // With a power of square roots (Power::kTwoLanes), two neighbours per step: one instruction
+  // serves two lanes for the division and the roots, the cost of this loop; the sum is kept in
+  // the scalar order. Then the rest, or every neighbour, one at a time.
+  std::size_t k = 0;
+  if constexpr (Power::kTwoLanes) {
+    for (; k + 2 <= n; k += 2) {
+      const Eigen::Array2d r2 = Eigen::Map<const Eigen::Array2d>(r_sq + k);
+      const Eigen::Array2d q = nu_z_min / (dof + r2 * inv_scale_sq);
+      const Eigen::Array2d p = power(q);
+      sum += p[0];
+      sum += p[1];
+      Eigen::Map<Eigen::Array2d>(u + k) = p * q;
+    }
+  }
+  for (; k < n; ++k) {
     const double q = nu_z_min / (dof + r_sq[k] * inv_scale_sq);
     const double p = power(q);
     sum += p;

@@ -304,3 +304,56 @@ TEST_CASE("Overflowing z = r / s^2: weights stay finite", "[weights]") {
     }
   }
 }
+
+// The Student-t kernel takes two neighbours per step in two lanes (weight_kernel.hpp). Each lane
+// must round as the one-neighbour formula written out here: q_k = (nu + z_min) / (nu + r_k / s^2),
+// the power by the method the kernel names for that nu, the sum in order, then c and w = c u.
+TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for every count",
+          "[weights]") {
+  Rng rng(29);
+  struct Kernel {
+    double nu;
+    double (*power)(double);
+  };
+  // e = (nu + 3) / 2 by the kernel's method: squaring, square roots for eighths, std::pow.
+  const Kernel kernels[] = {
+      {5.0, [](double q) { return (q * q) * (q * q); }},                              // e = 4
+      {1.25, [](double q) { return std::sqrt(std::sqrt(std::sqrt(q))) * (q * q); }},  // 2 + 1/8
+      {1.5, [](double q) { return std::sqrt(std::sqrt(q)) * (q * q); }},              // 2 + 1/4
+      {2.0, [](double q) { return std::sqrt(q) * (q * q); }},                         // 2 + 1/2
+      {1.0, [](double q) { return 1.0 * (q * q); }},                                  // 2
+      {2.7, [](double q) { return std::pow(q, 2.85); }},                              // std::pow
+  };
+  int compared = 0;
+  for (const Kernel& kernel : kernels) {
+    for (std::size_t n = 1; n <= 11; ++n) {
+      for (int trial = 0; trial < 20; ++trial) {
+        const double inv_s2 = std::pow(10.0, core_test::uniform(rng, -3.0, 3.0));
+        std::vector<double> r(n);
+        for (double& v : r) v = core_test::uniform(rng, 0.0, 20.0) / inv_s2;
+        double r_min = r[0];
+        for (double v : r) r_min = v < r_min ? v : r_min;
+        const double nu_z_min = kernel.nu + r_min * inv_s2;
+        std::vector<double> u(n);
+        double sum = 0.0;
+        for (std::size_t k = 0; k < n; ++k) {
+          const double q = nu_z_min / (kernel.nu + r[k] * inv_s2);
+          const double p = kernel.power(q);
+          sum += p;
+          u[k] = p * q;
+        }
+        const double c = (kernel.nu + 3.0) / (nu_z_min * sum);
+        const double lse =
+            -0.5 * (kernel.nu + 3.0) * std::log1p(r_min * inv_s2 / kernel.nu) + std::log(sum);
+        double got_lse = 0.0;
+        const std::vector<double> w =
+            weights_of(WeightModel::kStudentT, kernel.nu, inv_s2, r, &got_lse);
+        INFO("nu " << kernel.nu << " n " << n << " trial " << trial);
+        for (std::size_t k = 0; k < n; ++k) CHECK(w[k] == u[k] * c);
+        CHECK(got_lse == lse);
+        ++compared;
+      }
+    }
+  }
+  CHECK(compared == 6 * 11 * 20);
+}
