@@ -1,6 +1,7 @@
 // pair_normals.cpp - per-association normals from target and source normals (see header).
 #include "pair_normals.hpp"
 
+#include <cmath>
 #include <cstdint>
 
 #include "parallel.hpp"
@@ -23,7 +24,7 @@ void compute_pair_normals(const AssociationTable& assoc,
     const Eigen::Vector3d m = R_target_source * source_normals[j];  // zero stays zero
     const std::size_t first = j * k;
     const std::uint32_t* idx = &assoc.index[first];
-    if (m.squaredNorm() == 0.0) {  // no source normal: the target's own
+    if (!(m.squaredNorm() > 0.0)) {  // no source normal: the target's own
       for (std::size_t q = 0; q < count; ++q) out[first + q] = target_points[idx[q]].n;
       return;
     }
@@ -31,6 +32,9 @@ void compute_pair_normals(const AssociationTable& assoc,
     auto oriented_sum = [&m](const Eigen::Vector3d& n) -> Eigen::Vector3d {
       return n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
     };
+    // |(x, y, z)| summed as (x^2 + y^2) + z^2, the order of the two-lane form below (written
+    // out: Eigen's norm() sums in another order where it does not vectorise doubles in pairs).
+    auto length = [](double x, double y, double z) { return std::sqrt((x * x + y * y) + z * z); };
     // One pair; a target point without a normal keeps 0.
     auto one_pair = [&](std::size_t q) {
       const Eigen::Vector3d& n = target_points[idx[q]].n;
@@ -38,14 +42,16 @@ void compute_pair_normals(const AssociationTable& assoc,
         out[first + q] = n;
       } else {
         const Eigen::Vector3d sum = oriented_sum(n);
-        out[first + q] = sum / sum.norm();
+        out[first + q] = sum / length(sum.x(), sum.y(), sum.z());
       }
     };
     std::size_t q = 0;
     // Two pairs per step, their coordinates in lanes (x0, x1), (y0, y1), (z0, z1): one square
     // root and three divisions serve both, the cost of this function (docs/PERFORMANCE.md). Each
-    // lane computes sum / |sum| as Eigen's sum / sum.norm() does, |sum|^2 = (x^2 + y^2) + z^2
-    // then a correctly rounded root and divisions, so the bits are the same (test_pair_normals).
+    // lane computes sum / |sum| as one_pair does, |sum|^2 = (x^2 + y^2) + z^2 then a correctly
+    // rounded root and divisions, and our targets do not contract a * b + c into a fused
+    // multiply-add (-ffp-contract=off, CMakeLists.txt), so the bits are the same
+    // (test_pair_normals; the same as Eigen's sum / sum.norm() where Eigen 3.4 vectorises).
     for (; q + 2 <= count; q += 2) {
       const Eigen::Vector3d& n0 = target_points[idx[q]].n;
       const Eigen::Vector3d& n1 = target_points[idx[q + 1]].n;

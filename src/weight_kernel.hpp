@@ -44,8 +44,9 @@ struct PointWeights {
 };
 
 /// The powers below take a double; PowerDyadic also an Eigen::Array2d (two lanes, one SSE2 / NEON
-/// operation each, kTwoLanes): a lane runs the scalar's operations in the scalar's order, and a
-/// square root or a division is correctly rounded in either form (IEEE 754), so both give the
+/// operation each, kTwoLanes): a lane runs the scalar's operations in the scalar's order, a
+/// square root or a division is correctly rounded in either form (IEEE 754), and no a * b + c is
+/// contracted into a fused multiply-add (-ffp-contract=off, CMakeLists.txt), so both give the
 /// same bits.
 inline double square_root(double x) { return std::sqrt(x); }
 inline Eigen::Array2d square_root(const Eigen::Array2d& x) { return x.sqrt(); }
@@ -64,9 +65,10 @@ struct PowerFour {
 /// of square roots) for the set bits of the fraction. Half-integers (any integer dof) need one
 /// root; dof a multiple of 0.25 (e.g. 1.25, 1.5) at most three, instead of std::pow.
 struct PowerDyadic {
-  static constexpr bool kTwoLanes = true;  // the roots are the cost
-  int whole;                               // floor(e)
-  int eighths;                             // (e - floor(e)) * 8, in [0, 8)
+  // The roots (and the E-step's division, which also an integer e without roots shares) cost.
+  static constexpr bool kTwoLanes = true;
+  int whole;    // floor(e)
+  int eighths;  // (e - floor(e)) * 8, in [0, 8)
   template <class T>
   T operator()(const T& q) const {
     T result = one_like(q);

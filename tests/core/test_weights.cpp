@@ -315,14 +315,24 @@ TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for eve
     double nu;
     double (*power)(double);
   };
-  // e = (nu + 3) / 2 by the kernel's method: squaring, square roots for eighths, std::pow.
+  // e = (nu + 3) / 2 by the kernel's method: squaring, square roots for eighths, std::pow; the
+  // products in the kernel's order (PowerDyadic: the roots' product, then the powers of q by
+  // squaring, lowest first).
   const Kernel kernels[] = {
       {5.0, [](double q) { return (q * q) * (q * q); }},                              // e = 4
       {1.25, [](double q) { return std::sqrt(std::sqrt(std::sqrt(q))) * (q * q); }},  // 2 + 1/8
       {1.5, [](double q) { return std::sqrt(std::sqrt(q)) * (q * q); }},              // 2 + 1/4
       {2.0, [](double q) { return std::sqrt(q) * (q * q); }},                         // 2 + 1/2
       {1.0, [](double q) { return 1.0 * (q * q); }},                                  // 2
-      {2.7, [](double q) { return std::pow(q, 2.85); }},                              // std::pow
+      {0.25,                                                                          // 1 + 5/8
+       [](double q) { return (std::sqrt(q) * std::sqrt(std::sqrt(std::sqrt(q)))) * q; }},
+      {1.75,  // 2 + 3/8
+       [](double q) {
+         return (std::sqrt(std::sqrt(q)) * std::sqrt(std::sqrt(std::sqrt(q)))) * (q * q);
+       }},
+      {9.5,  // 6 + 1/4
+       [](double q) { return (std::sqrt(std::sqrt(q)) * (q * q)) * ((q * q) * (q * q)); }},
+      {2.7, [](double q) { return std::pow(q, 2.85); }},  // std::pow
   };
   int compared = 0;
   for (const Kernel& kernel : kernels) {
@@ -355,5 +365,5 @@ TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for eve
       }
     }
   }
-  CHECK(compared == 6 * 11 * 20);
+  CHECK(compared == 9 * 11 * 20);
 }
