@@ -13,6 +13,34 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) {
+  NormalFit fit;
+  if (n < 5) return fit;
+  // Covariance about the neighbourhood's mean (two passes: no cancellation).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int m = 0; m < n; ++m) mean += points[idx[m]];
+  mean /= n;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int m = 0; m < n; ++m) {
+    const Eigen::Vector3d d = points[idx[m]] - mean;
+    C.noalias() += d * d.transpose();
+  }
+  // Eigen's closed-form 3x3 solver; eigenvalues ascending, so column 0 is the normal.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(C / n);
+  const Eigen::Vector3d normal = eig.eigenvectors().col(0);
+  // A normal exists only where the neighbourhood spreads in two directions: for collinear
+  // (lambda_1 ~ 0) or identical points the smallest eigenvector is an arbitrary direction,
+  // and the point keeps a zero normal (Omega = I, point-to-point).
+  const Eigen::Vector3d lambda = eig.eigenvalues();
+  const bool has_plane = lambda[1] > 1e-6 * lambda[2];
+  if (has_plane && normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
+    fit.normal = normal;
+    fit.spread = std::sqrt(std::max(lambda[0], 0.0));
+  }
+  return fit;
+}
+
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread) {
   normals->assign(points.size(), Eigen::Vector3d::Zero());
@@ -23,36 +51,39 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   // Points in the tree's leaf order: consecutive queries start from the same leaf.
   const std::vector<std::uint32_t>& order = tree.leaf_order();
   assert(order.size() == points.size());
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t ii) {
-    const std::uint32_t i = order[static_cast<std::size_t>(ii)];
+  // Blocks of kSeedBlock points in that order, each visited in order by one thread, so that a
+  // query can be seeded by its block's previous one (header). The seed changes which cells the
+  // search skips, never its result, so neither the blocks nor the threads change the normals.
+  constexpr std::size_t kSeedBlock = 64;
+  const std::size_t n_blocks = (order.size() + kSeedBlock - 1) / kSeedBlock;
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
+    const std::size_t end = std::min(order.size(), begin + kSeedBlock);
     std::uint32_t idx[kMaxNeighbours];
     double d2[kMaxNeighbours];
-    const Eigen::Vector3d& q = points[i];
-    const int n = tree.radius_knn(q, k, unbounded, idx, d2);
-    if (n < 5) return;
-    // Covariance about the neighbourhood's mean (two passes: no cancellation).
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int m = 0; m < n; ++m) mean += points[idx[m]];
-    mean /= n;
-    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (int m = 0; m < n; ++m) {
-      const Eigen::Vector3d d = points[idx[m]] - mean;
-      C.noalias() += d * d.transpose();
-    }
-    // Eigen's closed-form 3x3 solver; eigenvalues ascending, so column 0 is the normal.
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(C / n);
-    const Eigen::Vector3d normal = eig.eigenvectors().col(0);
-    // A normal exists only where the neighbourhood spreads in two directions: for collinear
-    // (lambda_1 ~ 0) or identical points the smallest eigenvector is an arbitrary direction,
-    // and the point keeps a zero normal (Omega = I, point-to-point).
-    const Eigen::Vector3d lambda = eig.eigenvalues();
-    const bool has_plane = lambda[1] > 1e-6 * lambda[2];
-    if (has_plane && normal.allFinite() && std::abs(normal.norm() - 1.0) < 1e-6) {
-      (*normals)[i] = normal;
-      if (spread != nullptr) {
-        (*spread)[i] = std::sqrt(std::max(lambda[0], 0.0));
+    int found = 0;  // the previous point's neighbours, idx[0..found)
+    for (std::size_t ii = begin; ii < end; ++ii) {
+      const std::uint32_t i = order[ii];
+      const Eigen::Vector3d& q = points[i];
+      // Seed: the previous point's k neighbours are k real points, so the largest of their
+      // squared distances to q bounds q's k-th (the distances by the tree's own expression, the
+      // bound widened by 1e-9 against the rounding of its cell bounds, as the neighbour cache's
+      // seeded queries, neighbour_cache.hpp). Should the bounded query find fewer than k, it is
+      // repeated unbounded.
+      double bound_sq = unbounded;
+      if (found == k) {
+        double largest = 0.0;
+        for (int m = 0; m < k; ++m) {
+          const double d = squared_distance(q.data(), points[idx[m]].data());
+          largest = d > largest ? d : largest;
+        }
+        bound_sq = largest * (1.0 + 1e-9);
       }
+      found = tree.radius_knn(q, k, bound_sq, idx, d2);
+      if (found < k && bound_sq != unbounded) found = tree.radius_knn(q, k, unbounded, idx, d2);
+      const NormalFit fit = fit_normal(points, idx, found);
+      (*normals)[i] = fit.normal;
+      if (spread != nullptr) (*spread)[i] = fit.spread;
     }
   });
 }

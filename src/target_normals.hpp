@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "kdtree.hpp"
@@ -13,12 +14,30 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+/// The plane fit of one neighbourhood, points[idx[0..n)] summed in that order: normal is the unit
+/// eigenvector of the smallest eigenvalue of their covariance (about their mean), spread the
+/// square root of that eigenvalue (cloud units); normal zero and spread -1 when n < 5 or the
+/// points do not spread in two directions (middle eigenvalue <= 1e-6 of the largest).
+struct NormalFit {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double spread = -1.0;
+};
+NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
+
 /// Fits a plane (PCA: the eigenvector of the smallest eigenvalue of the neighbourhood's
 /// covariance) to the `neighbours` nearest points of each target point, in parallel. normals[i]
 /// is a unit vector, or zero when fewer than 5 points were found or they do not spread in two
 /// directions (middle eigenvalue <= 1e-6 of the largest). Allocation-free per point.
 /// If spread is not null, spread[i] = sqrt(smallest eigenvalue): the RMS distance of the fit's
 /// points from their plane (cloud units), or -1 where normals[i] is zero.
+/// The fit of point i is fit_normal() of its k-d tree query for its `neighbours` nearest (k <=
+/// 64), unbounded. Seeded queries: the points are visited in the tree's leaf order, in blocks of
+/// 64 on one thread each, and a point's query is bounded by the largest squared distance from it
+/// to the previous point's neighbours (times 1 + 1e-9), k real points, so its k-th is no farther;
+/// the search then skips the cells beyond that bound and finds the same neighbours in the same
+/// order (the argument of neighbour_cache.hpp, "Seeded queries"), and is repeated unbounded
+/// should it find fewer. The normals are those of unbounded queries to the bit
+/// (test_target_normals).
 /// Precondition: tree was built over exactly `points` (the points are visited in its leaf order;
 /// asserted).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,

@@ -65,7 +65,8 @@ struct PowerFour {
 /// of square roots) for the set bits of the fraction. Half-integers (any integer dof) need one
 /// root; dof a multiple of 0.25 (e.g. 1.25, 1.5) at most three, instead of std::pow.
 struct PowerDyadic {
-  // The roots (and the E-step's division, which also an integer e without roots shares) cost.
+  // Two lanes pay for the roots (measured at dof 1.25: docs/PERFORMANCE.md, update e4bacba); an
+  // integer e (odd dof) gains on the E-step's division only, not measured.
   static constexpr bool kTwoLanes = true;
   int whole;    // floor(e)
   int eighths;  // (e - floor(e)) * 8, in [0, 8)

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -158,4 +160,44 @@ TEST_CASE("surface_noise: the upper median of the spreads of points with a norma
   std::vector<double> spread;
   ppcr::detail::compute_normals(four, tree, 20, 1, &normals, &spread);
   CHECK(spread == std::vector<double>(4, -1.0));
+}
+
+TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounded queries",
+          "[target_normals]") {
+  // compute_normals bounds each query by its previous point's neighbours (target_normals.hpp);
+  // the reference fits every point from an unbounded query. A lattice makes exact ties at the
+  // k-th distance common (the tie order must survive the seed), the scene has curved surfaces
+  // and gaps, and k = 64 reaches past a leaf's points.
+  Rng rng(136);
+  PointCloud lattice;
+  for (int x = 0; x < 16; ++x) {
+    for (int y = 0; y < 16; ++y) {
+      for (int z = 0; z < 3; ++z) lattice.emplace_back(x, y, 0.5 * z * z);  // exact: ties are exact
+    }
+  }
+  const PointCloud scene = core_test::analytic_scene(rng, 4000);
+  for (const PointCloud* cloud : std::vector<const PointCloud*>{&lattice, &scene}) {
+    ppcr::detail::KdTree tree;
+    REQUIRE(tree.build(*cloud).ok());
+    for (int k : {5, 20, 64}) {
+      for (int threads : {1, 2}) {
+        std::vector<Eigen::Vector3d> normals;
+        std::vector<double> spread;
+        ppcr::detail::compute_normals(*cloud, tree, k, threads, &normals, &spread);
+        std::size_t mismatches = 0, with_normal = 0;
+        std::uint32_t idx[64];
+        double d2[64];
+        for (std::size_t i = 0; i < cloud->size(); ++i) {
+          const int n =
+              tree.radius_knn((*cloud)[i], k, std::numeric_limits<double>::max(), idx, d2);
+          const ppcr::detail::NormalFit fit = ppcr::detail::fit_normal(*cloud, idx, n);
+          mismatches += !(normals[i] == fit.normal && spread[i] == fit.spread);
+          with_normal += fit.spread >= 0.0;
+        }
+        INFO("cloud of " << cloud->size() << ", k " << k << ", threads " << threads);
+        CHECK(mismatches == 0);
+        CHECK(with_normal > cloud->size() / 2);
+      }
+    }
+  }
 }
