@@ -48,7 +48,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   const double unbounded = std::numeric_limits<double>::max();
-  // Points in the tree's leaf order: consecutive queries start from the same leaf.
+  // Points in the tree's leaf order: consecutive queries reach the same first leaf.
   const std::vector<std::uint32_t>& order = tree.leaf_order();
   assert(order.size() == points.size());
   // Blocks of kSeedBlock points in that order, each visited in order by one thread, so that a
@@ -65,7 +65,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     for (std::size_t ii = begin; ii < end; ++ii) {
       const std::uint32_t i = order[ii];
       const Eigen::Vector3d& q = points[i];
-      // Seed: the previous point's k neighbours are k real points, so the largest of their
+      // Seed, when the previous point found k: those are k real points, so the largest of their
       // squared distances to q bounds q's k-th (the distances by the tree's own expression, the
       // bound widened by 1e-9 against the rounding of its cell bounds, as the neighbour cache's
       // seeded queries, neighbour_cache.hpp). Should the bounded query find fewer than k, it is

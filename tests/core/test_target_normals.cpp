@@ -198,6 +198,36 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
         CHECK(mismatches == 0);
         CHECK(with_normal > cloud->size() / 2);
       }
+      // The claim itself, query by query: bounded by the previous point's (in leaf order) k
+      // neighbours, a query finds the unbounded query's k neighbours in the same order, ties
+      // included, with no repeat (the fits above would pass with a too tight bound, which the
+      // repeat mends).
+      const std::vector<std::uint32_t>& order = tree.leaf_order();
+      std::uint32_t prev[64], idx[64], ref[64];
+      double d2[64];
+      std::size_t seeded = 0, differ = 0, ties = 0;
+      int prev_found = 0;
+      for (std::uint32_t i : order) {
+        const Eigen::Vector3d& q = (*cloud)[i];
+        const int n = tree.radius_knn(q, k, std::numeric_limits<double>::max(), ref, d2);
+        for (int m = 1; m < n; ++m) ties += d2[m] == d2[m - 1];
+        if (prev_found == k) {
+          double largest = 0.0;
+          for (int m = 0; m < k; ++m) {
+            largest = std::max(largest,
+                               ppcr::detail::squared_distance(q.data(), (*cloud)[prev[m]].data()));
+          }
+          const int found = tree.radius_knn(q, k, largest * (1.0 + 1e-9), idx, d2);
+          ++seeded;
+          differ += !(found == n && std::equal(idx, idx + n, ref));
+        }
+        std::copy(ref, ref + n, prev);
+        prev_found = n;
+      }
+      INFO("cloud of " << cloud->size() << ", k " << k);
+      CHECK(seeded > cloud->size() / 2);
+      CHECK(differ == 0);
+      if (cloud == &lattice) CHECK(ties > 0);  // exact ties reached the seeded queries
     }
   }
 }
