@@ -1,4 +1,5 @@
-// kdtree.hpp - a k-d tree over the target and the radius-limited k-nearest-neighbour query.
+// kdtree.hpp - a k-d tree over a cloud (the target; the source too for its normals), the
+// radius-limited k-nearest-neighbour query, and that query seeded by points already known.
 //
 // nanoflann (1.4 to 1.7) stays behind a pimpl (only kdtree.cpp and kdtree_nanoflann.hpp include
 // it): nanoflann builds the tree, and the search runs nanoflann's algorithm on a flat copy of it
@@ -68,6 +69,51 @@ class KdTree {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Seeded queries. Points already known near the query (its list from an earlier query, or the
+/// previous query point's neighbours) bound its k-th nearest: k distinct indexed points lie within
+/// max_sq, the largest of their squared distances to the query (by squared_distance(), the
+/// search's own expression), so its k-th nearest does too. A search bounded by that finds the same
+/// k neighbours in the same order, ties included: it visits the cells in the same order, skips only
+/// cells beyond the bound (which hold none of the k) and, once it holds k points, prunes by its
+/// k-th as an unbounded search does (neighbour_cache.hpp, "Seeded queries"). The gain: it prunes
+/// from its first leaf on, not only once it holds k points.
+///
+/// The bound of a seeded query: max_sq widened by 1e-9 of itself. The margin covers the rounding
+/// between the two distance computations: a point's distance is computed as its seed's was, but
+/// the search skips a cell by its own rounded distance to the query (built up axis by axis), which
+/// can exceed the distance of a point inside it (kdtree_nanoflann.hpp) and so skip a point at
+/// exactly the bound. Should rounding beyond the margin skip one, the bounded query finds fewer
+/// than k and seeded_radius_knn repeats it.
+inline double seed_bound_sq(double max_sq) { return max_sq * (1.0 + 1e-9); }
+
+/// seed_bound_sq() of the largest squared distance from query to points[seeds[0..n)] (n distinct
+/// indexed points; points is the cloud the tree was built over).
+inline double seed_bound_sq(const Eigen::Vector3d& query, const PointCloud& points,
+                            const std::uint32_t* seeds, int n) {
+  double max_sq = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const double d = squared_distance(query.data(), points[seeds[m]].data());
+    max_sq = d > max_sq ? d : max_sq;
+  }
+  return seed_bound_sq(max_sq);
+}
+
+/// tree.radius_knn(query, k, radius_sq, indices, dist_sq), seeded: the query is bounded by
+/// min(seed_sq, radius_sq) and, when the seed bounded it (seed_sq < radius_sq) and it found fewer
+/// than k, repeated with radius_sq alone. *repeated (if not null) says whether it was. With
+/// seed_sq the seed_bound_sq() of k points, the result is radius_knn's with radius_sq (above); a
+/// seed_sq >= radius_sq (+infinity: no seed) makes it radius_knn itself.
+/// Allocation-free. Thread-safe (const).
+inline int seeded_radius_knn(const KdTree& tree, const Eigen::Vector3d& query, int k,
+                             double seed_sq, double radius_sq, std::uint32_t* indices,
+                             double* dist_sq, bool* repeated) {
+  const bool seeded = seed_sq < radius_sq;
+  const int found = tree.radius_knn(query, k, seeded ? seed_sq : radius_sq, indices, dist_sq);
+  const bool repeat = seeded && found < k;
+  if (repeated != nullptr) *repeated = repeat;
+  return repeat ? tree.radius_knn(query, k, radius_sq, indices, dist_sq) : found;
+}
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -191,14 +191,14 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
     // the seeded search finds the same want nearest in the same order).
     std::uint8_t seed = NeighbourCache::kUnseeded;
     auto query = [&](int want) {
-      double bound_sq = candidate_radius_sq;
+      double seed_sq = std::numeric_limits<double>::infinity();  // none: bounded by r_c^2 only
       bool own = false;  // seeded by the point's own list, else by the previous point's
       const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;
       if (listed >= want) {
         if (!listed_distances) distances(target, p, cand, listed, cand_d);
         double b = 0.0;
         for (int c = 0; c < listed; ++c) b = cand_d[c] > b ? cand_d[c] : b;
-        bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
+        seed_sq = seed_bound_sq(b);
         own = true;
       } else if (prev >= 0 && cache->count[static_cast<std::size_t>(prev)] >= want) {
         // prev was visited before j in this call, so its list is valid (queried, or kept).
@@ -207,19 +207,20 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
         // distance of this point's want-th neighbour as well as its own list would.
         const std::uint32_t* theirs =
             &cache->index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(capacity)];
-        double b = 0.0;
-        for (int c = 0; c < want; ++c) {
-          const double d = squared_distance(p.data(), target[theirs[c]].data());
-          b = d > b ? d : b;
-        }
-        bound_sq = std::min(bound_sq, b * (1.0 + 1e-9));
+        seed_sq = seed_bound_sq(p, target, theirs, want);
       }
-      const int found = target_tree.radius_knn(p, want, bound_sq, cand, cand_d);
-      if (bound_sq == candidate_radius_sq) return found;
-      seed = own ? NeighbourCache::kSeeded : NeighbourCache::kNeighbourSeeded;
-      if (found == want) return found;
-      seed = own ? NeighbourCache::kSeedRepeated : NeighbourCache::kNeighbourSeedRepeated;
-      return target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
+      bool repeated = false;
+      const int found = seeded_radius_knn(target_tree, p, want, seed_sq, candidate_radius_sq, cand,
+                                          cand_d, &repeated);
+      if (seed_sq < candidate_radius_sq) {  // the seed bounded the query (seeded_radius_knn)
+        if (own) {
+          seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
+        } else {
+          seed =
+              repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
+        }
+      }
+      return found;
     };
     int want = fast ? std::min(k + 1, capacity) : capacity;
     int found = query(want);

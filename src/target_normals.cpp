@@ -1,4 +1,5 @@
-// target_normals.cpp - PCA normals of the target (plane error model).
+// target_normals.cpp - PCA normals of a cloud for the plane error model: the target's, and the
+// source's with PlaneOptions::source_normals.
 #include "target_normals.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -65,22 +66,11 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     for (std::size_t ii = begin; ii < end; ++ii) {
       const std::uint32_t i = order[ii];
       const Eigen::Vector3d& q = points[i];
-      // Seed, when the previous point found k: those are k real points, so the largest of their
-      // squared distances to q bounds q's k-th (the distances by the tree's own expression, the
-      // bound widened by 1e-9 against the rounding of its cell bounds, as the neighbour cache's
-      // seeded queries, neighbour_cache.hpp). Should the bounded query find fewer than k, it is
-      // repeated unbounded.
-      double bound_sq = unbounded;
-      if (found == k) {
-        double largest = 0.0;
-        for (int m = 0; m < k; ++m) {
-          const double d = squared_distance(q.data(), points[idx[m]].data());
-          largest = d > largest ? d : largest;
-        }
-        bound_sq = largest * (1.0 + 1e-9);
-      }
-      found = tree.radius_knn(q, k, bound_sq, idx, d2);
-      if (found < k && bound_sq != unbounded) found = tree.radius_knn(q, k, unbounded, idx, d2);
+      // Seeded when the previous point found k: those are k real points, so they bound q's k-th
+      // (seed_bound_sq, kdtree.hpp). Should the bounded query find fewer than k, it is repeated
+      // unbounded (seeded_radius_knn).
+      const double seed_sq = found == k ? seed_bound_sq(q, points, idx, k) : unbounded;
+      found = seeded_radius_knn(tree, q, k, seed_sq, unbounded, idx, d2, nullptr);
       const NormalFit fit = fit_normal(points, idx, found);
       (*normals)[i] = fit.normal;
       if (spread != nullptr) (*spread)[i] = fit.spread;

@@ -36,7 +36,8 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// query is bounded by the largest squared distance from it to those k real points (times
 /// 1 + 1e-9: its k-th is no farther, up to the rounding the margin covers); the search then skips
 /// the cells beyond that bound and finds the same neighbours in the same order (the argument of
-/// neighbour_cache.hpp, "Seeded queries"), and is repeated unbounded should it find fewer. The
+/// neighbour_cache.hpp, "Seeded queries"), and is repeated unbounded should it find fewer
+/// (seed_bound_sq and seeded_radius_knn, kdtree.hpp, shared with the neighbour cache). The
 /// normals are those of unbounded queries to the bit (test_target_normals).
 /// Precondition: tree was built over exactly `points` (the points are visited in its leaf order;
 /// asserted).

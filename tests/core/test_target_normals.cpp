@@ -1,5 +1,6 @@
-// Tests of detail::compute_normals (PCA normals of the target, plane error model) against the
-// exact normals of analytic surfaces, and of its spreads and surface_noise against brute force.
+// Tests of detail::compute_normals (PCA normals of a cloud, the target's or the source's, for the
+// plane error model) against the exact normals of analytic surfaces, and of its spreads and
+// surface_noise against brute force.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -200,26 +201,29 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
       }
       // The claim itself, query by query: bounded by the previous point's (in leaf order) k
       // neighbours, a query finds the unbounded query's k neighbours in the same order, ties
-      // included, with no repeat (the fits above would pass with a too tight bound, which the
-      // repeat mends).
+      // included, with no repeat. The bound is compute_normals' (seed_bound_sq), the query the raw
+      // radius_knn: the fits above would pass with a too tight bound, which seeded_radius_knn's
+      // repeat mends. That repeat is checked apart: a seed of 0 (too tight for k >= 2 distinct
+      // points) must be repeated and give the unbounded list.
       const std::vector<std::uint32_t>& order = tree.leaf_order();
+      const double unbounded = std::numeric_limits<double>::max();
       std::uint32_t prev[64], idx[64], ref[64];
       double d2[64];
-      std::size_t seeded = 0, differ = 0, ties = 0;
+      std::size_t seeded = 0, differ = 0, ties = 0, not_mended = 0;
       int prev_found = 0;
       for (std::uint32_t i : order) {
         const Eigen::Vector3d& q = (*cloud)[i];
-        const int n = tree.radius_knn(q, k, std::numeric_limits<double>::max(), ref, d2);
+        const int n = tree.radius_knn(q, k, unbounded, ref, d2);
         for (int m = 1; m < n; ++m) ties += d2[m] == d2[m - 1];
         if (prev_found == k) {
-          double largest = 0.0;
-          for (int m = 0; m < k; ++m) {
-            largest = std::max(largest,
-                               ppcr::detail::squared_distance(q.data(), (*cloud)[prev[m]].data()));
-          }
-          const int found = tree.radius_knn(q, k, largest * (1.0 + 1e-9), idx, d2);
+          const double bound_sq = ppcr::detail::seed_bound_sq(q, *cloud, prev, k);
+          const int found = tree.radius_knn(q, k, bound_sq, idx, d2);
           ++seeded;
           differ += !(found == n && std::equal(idx, idx + n, ref));
+          bool repeated = false;
+          const int mended =
+              ppcr::detail::seeded_radius_knn(tree, q, k, 0.0, unbounded, idx, d2, &repeated);
+          not_mended += !(repeated && mended == n && std::equal(idx, idx + n, ref));
         }
         std::copy(ref, ref + n, prev);
         prev_found = n;
@@ -227,6 +231,7 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
       INFO("cloud of " << cloud->size() << ", k " << k);
       CHECK(seeded > cloud->size() / 2);
       CHECK(differ == 0);
+      CHECK(not_mended == 0);
       if (cloud == &lattice) CHECK(ties > 0);  // exact ties reached the seeded queries
     }
   }
