@@ -141,11 +141,10 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
   // The start is far: the ground truth's rotation is 34.3 degrees (the scan is nominally at 45
   // degrees, as the data README says, but bun045_gt.txt rotates by 34.3).
   CHECK(ppcr::rotation_error_deg(Eigen::Isometry3d::Identity(), T_gt) > 30.0);
-  // Measured: plane 0.066 degrees / 0.05 mm (ppcr_cli at commit 03512d7; before it 0.065, with
-  // source normals 0.080 / 0.04 mm, and the noise floor 0.082 / 0.04 mm; issue #8's setting with
-  // 5 neighbours and coarse stride 3, docs/BENCHMARK.md, 0.046 / 0.02 mm at b2a694d), point 0.39
-  // degrees / 0.5 mm (the authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in
-  // millimetres).
+  // Measured (this test at b2a694d): plane 0.066 degrees / 0.05 mm, with source normals 0.080 /
+  // 0.04 mm, with the noise floor 0.082 / 0.04 mm, issue #8's setting with 5 neighbours and
+  // coarse stride 3 (docs/BENCHMARK.md) 0.046 / 0.02 mm; point 0.39 degrees / 0.5 mm (the
+  // authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in millimetres).
   struct Model {
     ppcr::ErrorModel model;
     bool source_normals;
@@ -177,6 +176,9 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
     INFO(m.name << ": " << describe(r, T_gt) << ", surface noise " << r.target_surface_noise);
     REQUIRE(r.status.ok());
     CHECK(r.converged());
+    // A wiring check of k: at most k pairs per matched source point.
+    CHECK(r.correspondences <=
+          static_cast<std::size_t>(m.max_neighbours) * r.matched_source_points);
     if (m.model == ppcr::ErrorModel::kPlane) {
       // The scanner's surface noise at the 2 mm voxel: measured 0.22 mm.
       CHECK(r.target_surface_noise > 1e-4);
@@ -236,6 +238,8 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
            << describe(r, T_gt) << ", surface noise " << r.target_surface_noise);
       REQUIRE(r.status.ok());
       CHECK(r.converged());
+      CHECK(r.correspondences <=
+            static_cast<std::size_t>(m.max_neighbours) * r.matched_source_points);  // k wired
       if (m.model == ppcr::ErrorModel::kPlane) {
         // The beam-sparse scans' surface noise at the 0.2 m voxel: measured 6.0 cm.
         CHECK(r.target_surface_noise > 0.03);
@@ -243,10 +247,10 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
         // A wiring check (the option reaches the scale schedule through align()).
         if (m.noise_floor > 0.0) CHECK(r.scale >= 0.999 * m.noise_floor * r.target_surface_noise);
       }
-      // Measured: plane 0.13 degrees / 8 mm for both signs (the issue's EM prototype: a 1.2
-      // degree local minimum on this yaw), with source normals 0.15 degrees / 7 mm (and the noise
-      // floor 0.21 degrees / 4 mm at b2a694d), issue #8's setting with 5 neighbours and coarse
-      // stride 3 0.14 degrees / 8 mm; point 0.19 degrees / 10 mm.
+      // Measured (this test at b2a694d, both yaw signs): plane 0.13 degrees / 8 mm (the issue's
+      // EM prototype: a 1.2 degree local minimum on this yaw), with source normals 0.15 degrees /
+      // 7 mm, with the noise floor 0.21 degrees / 4 mm, issue #8's setting with 5 neighbours and
+      // coarse stride 3 0.14 degrees / 8 mm; point 0.19 degrees / 10 mm.
       CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.3);
       CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 0.03);
       check_trace(r);

@@ -54,7 +54,7 @@ protocol() { bench_protocol "$1" || exit 1; }
 # with the cost-drop + MSE-prev criterion (docs/TERMINATION.md section 10); sn-nf = source
 # normals and the EM scale floored at the target's surface noise; sn-nf-dof1 = the same with
 # Student-t dof 1 (docs/BENCHMARK.md); sn-nf08-dof125 = source normals, floor 0.8 x the surface
-# noise, dof 1.25 (the setting of BENCHMARK.md that beats every peer on both sets);
+# noise, dof 1.25 (a setting of BENCHMARK.md that beats every peer on both sets);
 # sn-nf08-dof125-k5-cs3 = the same with 5 target neighbours per source point and the coarse
 # phase on every 3rd source point (issue #8's setting within issue #6's time budget);
 # point = the paper's error with our EM scale and motion guard; paper = the paper's own
