@@ -99,20 +99,33 @@ inline double seed_bound_sq(const Eigen::Vector3d& query, const PointCloud& poin
   return seed_bound_sq(max_sq);
 }
 
+/// How a seeded_radius_knn() query went.
+enum class SeedOutcome : std::uint8_t {
+  kUnseeded,  // seed_sq >= radius_sq: bounded by radius_sq alone (radius_knn itself)
+  kSeeded,    // bounded by seed_sq, and that found k
+  kRepeated,  // bounded by seed_sq, found fewer than k, and repeated with radius_sq alone
+};
+
+/// The result of a seeded_radius_knn() query.
+struct SeededKnn {
+  int found = 0;  // neighbours written, as radius_knn returns
+  SeedOutcome outcome = SeedOutcome::kUnseeded;
+};
+
 /// tree.radius_knn(query, k, radius_sq, indices, dist_sq), seeded: the query is bounded by
 /// min(seed_sq, radius_sq) and, when the seed bounded it (seed_sq < radius_sq) and it found fewer
-/// than k, repeated with radius_sq alone. *repeated (if not null) says whether it was. With
-/// seed_sq the seed_bound_sq() of k points, the result is radius_knn's with radius_sq (above); a
-/// seed_sq >= radius_sq (+infinity: no seed) makes it radius_knn itself.
-/// Allocation-free. Thread-safe (const).
-inline int seeded_radius_knn(const KdTree& tree, const Eigen::Vector3d& query, int k,
-                             double seed_sq, double radius_sq, std::uint32_t* indices,
-                             double* dist_sq, bool* repeated) {
-  const bool seeded = seed_sq < radius_sq;
-  const int found = tree.radius_knn(query, k, seeded ? seed_sq : radius_sq, indices, dist_sq);
-  const bool repeat = seeded && found < k;
-  if (repeated != nullptr) *repeated = repeat;
-  return repeat ? tree.radius_knn(query, k, radius_sq, indices, dist_sq) : found;
+/// than k, repeated with radius_sq alone. With seed_sq the seed_bound_sq() of k points, the result
+/// is radius_knn's with radius_sq (above); a seed_sq >= radius_sq (+infinity: no seed) makes it
+/// radius_knn itself. Allocation-free. Thread-safe (const).
+inline SeededKnn seeded_radius_knn(const KdTree& tree, const Eigen::Vector3d& query, int k,
+                                   double seed_sq, double radius_sq, std::uint32_t* indices,
+                                   double* dist_sq) {
+  if (!(seed_sq < radius_sq)) {
+    return {tree.radius_knn(query, k, radius_sq, indices, dist_sq), SeedOutcome::kUnseeded};
+  }
+  const int found = tree.radius_knn(query, k, seed_sq, indices, dist_sq);
+  if (found >= k) return {found, SeedOutcome::kSeeded};
+  return {tree.radius_knn(query, k, radius_sq, indices, dist_sq), SeedOutcome::kRepeated};
 }
 
 }  // namespace detail

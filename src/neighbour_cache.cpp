@@ -209,10 +209,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
             &cache->index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(capacity)];
         seed_sq = seed_bound_sq(p, target, theirs, want);
       }
-      bool repeated = false;
-      const int found = seeded_radius_knn(target_tree, p, want, seed_sq, candidate_radius_sq, cand,
-                                          cand_d, &repeated);
-      if (seed_sq < candidate_radius_sq) {  // the seed bounded the query (seeded_radius_knn)
+      const SeededKnn knn =
+          seeded_radius_knn(target_tree, p, want, seed_sq, candidate_radius_sq, cand, cand_d);
+      const bool repeated = knn.outcome == SeedOutcome::kRepeated;
+      if (knn.outcome != SeedOutcome::kUnseeded) {
         if (own) {
           seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
         } else {
@@ -220,7 +220,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
               repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
         }
       }
-      return found;
+      return knn.found;
     };
     int want = fast ? std::min(k + 1, capacity) : capacity;
     int found = query(want);

@@ -70,7 +70,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
       // (seed_bound_sq, kdtree.hpp). Should the bounded query find fewer than k, it is repeated
       // unbounded (seeded_radius_knn).
       const double seed_sq = found == k ? seed_bound_sq(q, points, idx, k) : unbounded;
-      found = seeded_radius_knn(tree, q, k, seed_sq, unbounded, idx, d2, nullptr);
+      found = seeded_radius_knn(tree, q, k, seed_sq, unbounded, idx, d2).found;
       const NormalFit fit = fit_normal(points, idx, found);
       (*normals)[i] = fit.normal;
       if (spread != nullptr) (*spread)[i] = fit.spread;

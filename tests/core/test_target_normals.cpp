@@ -220,10 +220,10 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
           const int found = tree.radius_knn(q, k, bound_sq, idx, d2);
           ++seeded;
           differ += !(found == n && std::equal(idx, idx + n, ref));
-          bool repeated = false;
-          const int mended =
-              ppcr::detail::seeded_radius_knn(tree, q, k, 0.0, unbounded, idx, d2, &repeated);
-          not_mended += !(repeated && mended == n && std::equal(idx, idx + n, ref));
+          const ppcr::detail::SeededKnn mended =
+              ppcr::detail::seeded_radius_knn(tree, q, k, 0.0, unbounded, idx, d2);
+          not_mended += !(mended.outcome == ppcr::detail::SeedOutcome::kRepeated &&
+                          mended.found == n && std::equal(idx, idx + n, ref));
         }
         std::copy(ref, ref + n, prev);
         prev_found = n;
