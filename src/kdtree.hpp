@@ -101,8 +101,8 @@ inline double seed_bound_sq(const Eigen::Vector3d& query, const PointCloud& poin
 
 /// How a seeded_radius_knn() query went.
 enum class SeedOutcome : std::uint8_t {
-  kUnseeded,  // seed_sq >= radius_sq: bounded by radius_sq alone (radius_knn itself)
-  kSeeded,    // bounded by seed_sq, and that found k
+  kUnseeded,  // !(seed_sq < radius_sq) (>=, or NaN): bounded by radius_sq alone (radius_knn)
+  kSeeded,    // bounded by seed_sq, and that found k (found >= k)
   kRepeated,  // bounded by seed_sq, found fewer than k, and repeated with radius_sq alone
 };
 

@@ -211,8 +211,8 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
       }
       const SeededKnn knn =
           seeded_radius_knn(target_tree, p, want, seed_sq, candidate_radius_sq, cand, cand_d);
-      const bool repeated = knn.outcome == SeedOutcome::kRepeated;
       if (knn.outcome != SeedOutcome::kUnseeded) {
+        const bool repeated = knn.outcome == SeedOutcome::kRepeated;
         if (own) {
           seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
         } else {

@@ -32,10 +32,11 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// distance of the fit's points from their plane (cloud units), or -1 where normals[i] is zero. The
 /// fit of point i is fit_normal() of its k-d tree query for its k = min(neighbours, 64) nearest,
 /// unbounded. The points are visited in the tree's leaf order, in blocks of 64 on one thread each,
-/// and a point's query is seeded by its block's previous point's k neighbours (seed_bound_sq and
-/// seeded_radius_knn, kdtree.hpp, for why that finds the same neighbours in the same order), so the
-/// normals are those of unbounded queries to the bit (test_target_normals). Precondition: tree was
-/// built over exactly `points` (the points are visited in its leaf order; asserted).
+/// and when its block's previous point found k neighbours, a point's query is seeded by those k
+/// and repeated unbounded should it find fewer (seed_bound_sq and seeded_radius_knn, kdtree.hpp,
+/// for why that finds the same neighbours in the same order), so the normals are those of unbounded
+/// queries to the bit (test_target_normals). Precondition: tree was built over exactly `points`
+/// (the points are visited in its leaf order; asserted).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr);
 

@@ -3,11 +3,10 @@
 // ground truth. Skipped (exit 77) when the data folder is absent.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core_test_util.hpp"
 #include "ppcr/metrics.hpp"
@@ -163,10 +162,11 @@ const Setting kSettings[] = {
 // Checks shared by both scans' settings: k reaches the association (at most k pairs per matched
 // source point), and the plane model's noise floor reaches the scale schedule through align() (the
 // synthetic registration test shows that the floor binds).
-void check_wiring(const Setting& m, const RegistrationResult& r) {
-  CHECK(r.correspondences <= static_cast<std::size_t>(m.max_neighbours) * r.matched_source_points);
-  if (m.model == ppcr::ErrorModel::kPlane && m.noise_floor > 0.0) {
-    CHECK(r.scale >= 0.999 * m.noise_floor * r.target_surface_noise);
+void check_wiring(const Setting& setting, const RegistrationResult& r) {
+  CHECK(r.correspondences <=
+        static_cast<std::size_t>(setting.max_neighbours) * r.matched_source_points);
+  if (setting.model == ppcr::ErrorModel::kPlane && setting.noise_floor > 0.0) {
+    CHECK(r.scale >= 0.999 * setting.noise_floor * r.target_surface_noise);
   }
 }
 
@@ -185,18 +185,18 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
   // 0.04 mm, with the noise floor 0.082 / 0.04 mm, issue #8's setting with 5 neighbours and
   // coarse stride 3 (docs/BENCHMARK.md) 0.046 / 0.02 mm; point 0.39 degrees / 0.5 mm (the
   // authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in millimetres).
-  for (const Setting& m : kSettings) {
+  for (const Setting& setting : kSettings) {
     RegistrationOptions o;
     o.radius = 0.02;
     o.source_voxel = o.target_voxel = 0.002;
-    m.apply(&o);
-    const bool plane = m.model == ppcr::ErrorModel::kPlane;
+    setting.apply(&o);
+    const bool plane = setting.model == ppcr::ErrorModel::kPlane;
     const RegistrationResult r =
         ppcr::align(source, target, o, Eigen::Isometry3d::Identity(), &T_gt);
-    INFO(m.name << ": " << describe(r, T_gt) << ", surface noise " << r.target_surface_noise);
+    INFO(setting.name << ": " << describe(r, T_gt) << ", surface noise " << r.target_surface_noise);
     REQUIRE(r.status.ok());
     CHECK(r.converged());
-    check_wiring(m, r);
+    check_wiring(setting, r);
     if (plane) {
       // The scanner's surface noise at the 2 mm voxel: measured 0.22 mm.
       CHECK(r.target_surface_noise > 1e-4);
@@ -215,11 +215,12 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
   const PointCloud source = load_cloud("lidar/source.ply");
   const PointCloud target = load_cloud("lidar/target.ply");
   const Eigen::Isometry3d T_gt = load_transform("lidar/source_gt.txt");
-  for (const Setting& m : kSettings) {
+  for (const Setting& setting : kSettings) {
     RegistrationOptions o;
     o.radius = 1.0;
     o.source_voxel = o.target_voxel = 0.2;
-    m.apply(&o);
+    setting.apply(&o);
+    const bool plane = setting.model == ppcr::ErrorModel::kPlane;
     for (double sign : {1.0, -1.0}) {
       // Perturbation in the target frame: 10 degrees about an axis near the vertical, 0.5 m
       // horizontally.
@@ -229,12 +230,12 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
       const Eigen::Isometry3d T0 = perturbation * T_gt;
       REQUIRE(ppcr::rotation_error_deg(T0, T_gt) == Approx(10.0).epsilon(1e-9));
       const RegistrationResult r = ppcr::align(source, target, o, T0);
-      INFO(m.name << ", yaw sign " << sign << ": " << describe(r, T_gt) << ", surface noise "
-                  << r.target_surface_noise);
+      INFO(setting.name << ", yaw sign " << sign << ": " << describe(r, T_gt) << ", surface noise "
+                        << r.target_surface_noise);
       REQUIRE(r.status.ok());
       CHECK(r.converged());
-      check_wiring(m, r);
-      if (m.model == ppcr::ErrorModel::kPlane) {
+      check_wiring(setting, r);
+      if (plane) {
         // The beam-sparse scans' surface noise at the 0.2 m voxel: measured 6.0 cm.
         CHECK(r.target_surface_noise > 0.03);
         CHECK(r.target_surface_noise < 0.1);
