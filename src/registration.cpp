@@ -525,7 +525,12 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     // Re-associate unless no source point can have moved more than reassociate_motion x radius
     // since the last association: a point x moves by
     // |(R - R_a) x + (t - t_a)| <= |R - R_a|_2 |x| + |t - t_a|, |R - R_a|_2 = 2 sin(angle / 2).
-    bool reassociate = t == 1 || coarse != coarse_associated || o.reassociate_motion <= 0.0;
+    // Fresh lists also when the termination monitor or the scale schedule asks: a streak toward
+    // a stop or toward the coarse phase's end is running, or the last iteration reused lists and
+    // would have counted toward one. Both count only iterations on fresh associations
+    // (termination.hpp, scale_schedule.hpp).
+    bool reassociate = t == 1 || coarse != coarse_associated || o.reassociate_motion <= 0.0 ||
+                       monitor.wants_fresh_lists() || scale.wants_fresh_lists();
     if (!reassociate) {
       const Eigen::AngleAxisd rotation(T.linear() * T_associated.linear().transpose());
       const double bound = 2.0 * std::sin(0.5 * std::abs(rotation.angle())) * source_extent +
@@ -583,6 +588,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     report.T_target_source = result.T_target_source;
     report.scale_settling = scale.settling();
     report.motion_reference = reference_length;
+    report.lists_reused = !reassociate;
     reason = lm.termination == LMTermination::kNumericalFailure ? StopReason::kNumericalFailure
                                                                 : monitor.update(report);
     if (reason == StopReason::kNumericalFailure) {
@@ -591,7 +597,8 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
     }
     // EM estimate of s^2 at the final pose: sum w r / (3 N) = 2 final_cost / (3 N).
     scale.update(monitor.last_cost_drop(), std::sqrt(monitor.last_mse_prev()),
-                 2.0 * lm.final_cost / (3.0 * static_cast<double>(m.assoc.matched)));
+                 2.0 * lm.final_cost / (3.0 * static_cast<double>(m.assoc.matched)),
+                 report.lists_reused);
     if (o.record_history || o.on_iteration) {
       IterationRecord r;
       r.iteration = t;
@@ -608,6 +615,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       r.scale = std::sqrt(scale_sq);
       r.correspondences = m.assoc.pairs;
       r.matched_source_points = m.assoc.matched;
+      r.associated = reassociate;
       r.T_target_source = result.T_target_source;
       r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       if (o.on_iteration && !o.on_iteration(r) && reason == StopReason::kNone) {

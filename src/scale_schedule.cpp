@@ -26,14 +26,22 @@ ScaleSchedule::ScaleSchedule(const WeightOptions& options, double radius)
   }
 }
 
-void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_sq) {
+void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_sq,
+                           bool lists_reused) {
+  wants_fresh_lists_ = false;
   if (options_.scale_mode != ScaleMode::kEM) return;
   if (coarse_) {
     // Phase 1: hold s until the pose has settled at this scale. (NaN drops count as settled.)
     const bool slow = options_.em_coarse_max_motion <= 0.0 ||
                       rms_motion < options_.em_coarse_max_motion * radius_;
-    low_drop_count_ = slow && !(cost_drop >= options_.em_coarse_drop) ? low_drop_count_ + 1 : 0;
+    const bool low = slow && !(cost_drop >= options_.em_coarse_drop);
     const bool still = rms_motion < options_.em_coarse_motion * std::sqrt(scale_sq_);
+    if (lists_reused) {  // no evidence either way (header): hold, and ask for fresh lists
+      wants_fresh_lists_ = low || still || low_drop_count_ > 0;
+      return;
+    }
+    low_drop_count_ = low ? low_drop_count_ + 1 : 0;
+    wants_fresh_lists_ = low_drop_count_ > 0;  // a streak is running: count fresh iterations
     if (low_drop_count_ <= options_.em_coarse_patience && !still) return;
     coarse_ = false;  // settled: the EM updates start with this iteration's estimate
   }

@@ -25,8 +25,17 @@ class ScaleSchedule {
   bool coarse() const { return coarse_; }
 
   /// After an outer iteration: its relative cost drop, the RMS motion of the source it caused
-  /// (sqrt of the MSE w.r.t. the previous pose), and the EM estimate of s^2 at its final pose.
-  void update(double cost_drop, double rms_motion, double em_scale_sq);
+  /// (sqrt of the MSE w.r.t. the previous pose), the EM estimate of s^2 at its final pose, and
+  /// whether it reused the last associations (RegistrationOptions::reassociate_motion). A
+  /// coarse-phase iteration on reused lists re-solved the problem just solved: its drop and
+  /// motion are ~0 by construction, so it neither counts toward the end of the coarse phase nor
+  /// resets the count, and ends nothing; if it would have, wants_fresh_lists() asks for fresh
+  /// associations, whose iteration then decides (as termination.hpp does for the criteria).
+  void update(double cost_drop, double rms_motion, double em_scale_sq, bool lists_reused = false);
+  /// True in the coarse phase while a streak of low drops runs, or when the last update() reused
+  /// lists and would have counted toward (or ended) the coarse phase: the next iteration should
+  /// associate afresh.
+  bool wants_fresh_lists() const { return wants_fresh_lists_; }
 
  private:
   WeightOptions options_;
@@ -35,6 +44,7 @@ class ScaleSchedule {
   bool coarse_ = false;
   bool settling_ = false;
   int low_drop_count_ = 0;
+  bool wants_fresh_lists_ = false;
 };
 
 }  // namespace detail

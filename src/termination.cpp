@@ -75,23 +75,33 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
   last_cost_drop_ = (initial - final_cost) / initial;  // eq. 7
 
   // Update every counter, whichever criteria are enabled; hold them at zero while the E-step
-  // scale is settling.
+  // scale is settling. An iteration on reused lists holds them where they are (header) and, if
+  // it would have advanced one, asks for fresh lists.
   const bool counting = !report.scale_settling;
   const bool still =
       criteria_.cost_drop_max_motion <= 0.0 ||
       std::sqrt(last_mse_prev_) < criteria_.cost_drop_max_motion * report.motion_reference;
-  low_cost_drop_count_ = counting && still && last_cost_drop_ < criteria_.cost_drop_threshold
-                             ? low_cost_drop_count_ + 1
-                             : 0;
-  const bool mse_low = last_mse_prev_ == 0.0 ||
-                       (t >= 2 && last_mse_prev_ < previous_mse_ / criteria_.mse_ratio_threshold);
-  low_mse_count_ = counting && mse_low ? low_mse_count_ + 1 : 0;
-  previous_mse_ = last_mse_prev_;
-  low_steps_count_ = counting && report.lm.successful_steps <= criteria_.successful_steps_threshold
-                         ? low_steps_count_ + 1
-                         : 0;
-
+  const bool drop_low = counting && still && last_cost_drop_ < criteria_.cost_drop_threshold;
+  const bool mse_low =
+      counting && (last_mse_prev_ == 0.0 ||
+                   (t >= 2 && last_mse_prev_ < previous_mse_ / criteria_.mse_ratio_threshold));
+  const bool steps_low =
+      counting && report.lm.successful_steps <= criteria_.successful_steps_threshold;
+  const bool hold = report.lists_reused && counting;
+  if (!hold) {
+    previous_mse_ = last_mse_prev_;  // the MSE ratio's reference holds with the counters
+    low_cost_drop_count_ = drop_low ? low_cost_drop_count_ + 1 : 0;
+    low_mse_count_ = mse_low ? low_mse_count_ + 1 : 0;
+    low_steps_count_ = steps_low ? low_steps_count_ + 1 : 0;
+  }
+  // Fresh lists for the next iteration when an enabled criterion's streak is running or this
+  // reused iteration would have started or extended one.
   const std::uint32_t c = criteria_.criteria;
+  wants_fresh_lists_ =
+      ((c & kCriterionCostDrop) && (low_cost_drop_count_ > 0 || (hold && drop_low))) ||
+      ((c & kCriterionMsePrev) && (low_mse_count_ > 0 || (hold && mse_low))) ||
+      ((c & kCriterionSuccessfulSteps) && (low_steps_count_ > 0 || (hold && steps_low)));
+
   if ((c & kCriterionFixed) && t >= criteria_.fixed_iterations) return StopReason::kFixedIterations;
   if ((c & kCriterionCostDrop) && low_cost_drop_count_ > criteria_.cost_drop_patience) {
     return StopReason::kCostDrop;

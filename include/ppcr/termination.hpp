@@ -30,6 +30,15 @@
 //    formed, so no NaN drop ever reaches a criterion.
 //  - While a report says scale_settling (the coarse-to-fine EM scale is not settled yet), the
 //    cost-drop, MSE and successful-steps counters are held at zero; fixed and cap still apply.
+//  - A report that says lists_reused (the iteration re-solved the previous iteration's
+//    associations: RegistrationOptions::reassociate_motion) neither counts nor resets those three
+//    counters (while the scale settles they stay at zero, as above): its inner problem is the one
+//    just solved, so its cost drop and motion are ~0 by construction and say nothing about
+//    convergence. wants_fresh_lists() asks the solver to re-associate before the next iteration
+//    when such a report would have counted (scale settled, and low by an enabled criterion's
+//    rule) or while an enabled criterion's streak runs (its counter > 0). So every count comes
+//    from an iteration on fresh associations, and a streak's iterations follow one another as
+//    without reuse; fixed and cap still count every t.
 // With several criteria enabled the loop stops when any fires; the first in the order above wins.
 #pragma once
 
@@ -94,6 +103,8 @@ struct IterationReport {
   double motion_reference = 1.0;  // length cost_drop_max_motion is relative to (the radius)
   bool scale_settling = false;    // the E-step scale is still coarse or shrinking (weights.hpp):
                                   // adaptive criteria neither count nor fire this iteration
+  bool lists_reused = false;      // the iteration reused the last associations (no new ones):
+                                  // adaptive counters hold (neither count nor reset; above)
 };
 
 }  // namespace PPCR_ABI_NAMESPACE
@@ -119,6 +130,9 @@ class TerminationMonitor {
   /// or not finite) and MSE w.r.t. the previous pose.
   double last_cost_drop() const { return last_cost_drop_; }
   double last_mse_prev() const { return last_mse_prev_; }
+  /// True when an enabled criterion's counter is above zero, or the last report had lists_reused
+  /// and would have advanced one: the next iteration should associate afresh (file comment).
+  bool wants_fresh_lists() const { return wants_fresh_lists_; }
 
  private:
   TerminationCriteria criteria_;
@@ -130,6 +144,7 @@ class TerminationMonitor {
   int low_cost_drop_count_ = 0;
   int low_mse_count_ = 0;
   int low_steps_count_ = 0;
+  bool wants_fresh_lists_ = false;
 };
 
 }  // namespace PPCR_ABI_NAMESPACE

@@ -39,7 +39,9 @@ enum class ScaleMode {
 ///     scale: the relative cost drop of more than em_coarse_patience consecutive outer iterations
 ///     was below em_coarse_drop, or one iteration moved the source by less than
 ///     em_coarse_motion * s (RMS). A wide kernel has a wide basin: this is what lets PPCR escape
-///     the local minima a small scale creates (measured on the lidar pair: see README).
+///     the local minima a small scale creates (measured on the lidar pair: see README). An
+///     iteration that reused the last associations (RegistrationOptions::reassociate_motion)
+///     neither counts toward nor ends this phase (src/scale_schedule.hpp).
 ///  2. refine: after every outer iteration s^2 <- max(EM estimate, em_min_shrink * s^2,
 ///     em_min_scale^2), the EM estimate being sum_kj w_kj r_kj / (3 * matched source points) at
 ///     the final pose (the M-step of the Student-t / Gaussian scale).

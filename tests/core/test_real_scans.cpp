@@ -139,6 +139,7 @@ struct Setting {
   double dof = 5.0;
   int max_neighbours = 10;
   int coarse_stride = RegistrationOptions::kAutomatic;
+  double reassociate_motion = 0.0;
 
   void apply(RegistrationOptions* o) const {
     o->error_model = model;
@@ -147,6 +148,7 @@ struct Setting {
     o->weights.dof = dof;
     o->max_neighbours = max_neighbours;
     o->coarse_stride = coarse_stride;
+    o->reassociate_motion = reassociate_motion;
   }
 };
 
@@ -157,6 +159,10 @@ const Setting kSettings[] = {
     {"issue #8's setting: floor 0.8, dof 1.25, 5 neighbours, stride 3", ppcr::ErrorModel::kPlane,
      true, 0.8, 1.25, 5, 3},
     {"point", ppcr::ErrorModel::kPoint, false, 0.0},
+    // Reused lists: before they stopped counting toward the stop and the coarse phase's end,
+    // this sent the lidar run (yaw +10 degrees) into the 1.2 degree local minimum.
+    {"point, lists reused below 0.05 x radius", ppcr::ErrorModel::kPoint, false, 0.0, 5.0, 10,
+     RegistrationOptions::kAutomatic, 0.05},
 };
 
 // Checks shared by both scans' settings: k reaches the association (at most k pairs per matched

@@ -1266,6 +1266,39 @@ TEST_CASE("the plane model with source normals recovers the pose on the syntheti
   }
 }
 
+TEST_CASE("reassociate_motion: iterations reuse lists, the stop rests on fresh ones",
+          "[registration]") {
+  for (ppcr::ErrorModel model : {ppcr::ErrorModel::kPoint, ppcr::ErrorModel::kPlane}) {
+    const Scene sc = make_scene(0, 3000, true);
+    RegistrationOptions o = scene_options();
+    o.error_model = model;
+    const RegistrationResult every = ppcr::align(sc.source, sc.target, o);
+    o.reassociate_motion = 0.05;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO((model == ppcr::ErrorModel::kPoint ? "point: " : "plane: ") << describe(r));
+    REQUIRE(every.status.ok());
+    REQUIRE(r.status.ok());
+    CHECK(r.stop_reason == ppcr::StopReason::kCostDrop);
+    int reused = 0;
+    for (const ppcr::IterationRecord& h : r.history) reused += !h.associated;
+    for (const ppcr::IterationRecord& h : every.history) CHECK(h.associated);
+    CHECK(reused > 0);  // the option took effect
+    CHECK(r.history.front().associated);
+    // The cost-drop stop's patience + 1 low iterations all ran on fresh associations
+    // (termination.hpp): a reused iteration's ~0 drop never counts.
+    const int patience = o.termination.cost_drop_patience;
+    REQUIRE(r.iterations >= patience + 1);
+    for (int i = r.iterations - patience - 1; i < r.iterations; ++i) {
+      const ppcr::IterationRecord& h = r.history[static_cast<std::size_t>(i)];
+      CHECK(h.associated);
+      CHECK(h.cost_drop < o.termination.cost_drop_threshold);
+    }
+    // Noise-free, the same points: both reach the truth.
+    CHECK(rms_error(sc.source, r.T_target_source, sc.T_true) < 1e-6);
+    CHECK(rms_error(sc.source, every.T_target_source, sc.T_true) < 1e-6);
+  }
+}
+
 TEST_CASE("on_iteration sees every record and can cancel", "[registration]") {
   const Scene sc = make_scene(0, 1500, true);
   RegistrationOptions o = scene_options();
