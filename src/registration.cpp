@@ -615,7 +615,7 @@ RegistrationResult Registration::align(const PointCloud& source, const Eigen::Is
       r.scale = std::sqrt(scale_sq);
       r.correspondences = m.assoc.pairs;
       r.matched_source_points = m.assoc.matched;
-      r.associated = reassociate;
+      r.lists_reused = !reassociate;
       r.T_target_source = result.T_target_source;
       r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       if (o.on_iteration && !o.on_iteration(r) && reason == StopReason::kNone) {

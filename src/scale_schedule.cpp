@@ -44,6 +44,7 @@ void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_
     wants_fresh_lists_ = low_drop_count_ > 0;  // a streak is running: count fresh iterations
     if (low_drop_count_ <= options_.em_coarse_patience && !still) return;
     coarse_ = false;  // settled: the EM updates start with this iteration's estimate
+    wants_fresh_lists_ = false;
   }
   // Phase 2: EM estimate, shrinking by at most em_min_shrink per iteration, floored.
   const double limit_sq = options_.em_min_shrink * scale_sq_;

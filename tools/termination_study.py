@@ -30,7 +30,7 @@ import numpy as np
 TRACE_COLUMNS = [
     "iteration", "successful_steps", "unsuccessful_steps", "initial_cost", "final_cost",
     "cost_drop", "mse_prev", "mse_ground_truth", "benchmark_error", "scale", "correspondences",
-    "matched_source_points", "tx", "ty", "tz", "qx", "qy", "qz", "qw", "time_ms",
+    "matched_source_points", "tx", "ty", "tz", "qx", "qy", "qz", "qw", "lists_reused", "time_ms",
 ]
 REQUIRED = ["iteration", "successful_steps", "initial_cost", "final_cost", "cost_drop",
             "mse_prev", "scale"]

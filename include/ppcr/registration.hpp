@@ -39,16 +39,18 @@ struct RegistrationOptions {
   TerminationCriteria termination;              // outer loop
   /// Re-associate only when some source point may have moved more than this fraction of the
   /// radius since the last association (a bound from the pose change and the source's extent);
-  /// otherwise the outer iteration reuses the neighbour lists (IterationRecord::associated).
+  /// otherwise the outer iteration reuses the neighbour lists (IterationRecord::lists_reused).
   /// 0 = every iteration (the paper). An iteration on reused lists re-solves the problem just
-  /// solved, so its cost drop and motion are ~0 by construction: it neither counts toward a
-  /// termination criterion nor toward the end of the EM scale's coarse phase, and the next
+  /// solved, so its cost drop and motion are ~0 by construction: it counts neither toward an
+  /// adaptive termination criterion (cost drop, MSE, successful steps; fixed iterations and the
+  /// max_iterations cap count every iteration) nor toward the end of the EM scale's coarse
+  /// phase, and the next
   /// iteration re-associates when it would have, or while a streak toward either runs
   /// (termination.hpp). Before that rule (commit 2ee5201 and earlier) such iterations did
   /// count, and 0.05 stopped a point-model lidar run in the 1.2 degree local minimum and a line
-  /// 2.4 cm short. With the rule the stop's iterations re-associate, and 0.05 measured the same
-  /// errors and 2-4 % less time on the benchmark sets, within the machine's noise
-  /// (docs/PERFORMANCE.md, update "reassociate_motion"). Hence still off by default.
+  /// 2.4 cm short. With the rule the stop's iterations re-associate, and 0.05 measured error
+  /// medians within 0.05 % and 0.6-4.2 % less time on the benchmark sets, within noise
+  /// (docs/PERFORMANCE.md, update 65b0f00). Hence still off by default.
   double reassociate_motion = 0.0;
   /// Extra candidates kept per source point for exact incremental association (k + this many
   /// nearest target points within 1.25 x radius, re-ranked or re-sorted at each association; a
@@ -110,7 +112,8 @@ struct IterationRecord {
   // coarse level in the EM coarse phase (RegistrationOptions::coarse_stride).
   std::size_t correspondences = 0;
   std::size_t matched_source_points = 0;
-  bool associated = true;  // associated afresh; false: reused the last lists (reassociate_motion)
+  bool lists_reused = false;  // reused the last neighbour lists (reassociate_motion); false:
+                              // associated afresh
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
   double time_ms = 0.0;  // wall time of this outer iteration
 };

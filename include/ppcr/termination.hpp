@@ -38,7 +38,9 @@
 //    when such a report would have counted (scale settled, and low by an enabled criterion's
 //    rule) or while an enabled criterion's streak runs (its counter > 0). So every count comes
 //    from an iteration on fresh associations, and a streak's iterations follow one another as
-//    without reuse; fixed and cap still count every t.
+//    without reuse; fixed and cap still count every t. (MSE_t is still measured from the pose of
+//    the iteration before, reused or not; the MSE ratio's reference MSE_{t-1} holds with the
+//    counters.)
 // With several criteria enabled the loop stops when any fires; the first in the order above wins.
 #pragma once
 

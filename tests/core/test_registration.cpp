@@ -1280,17 +1280,26 @@ TEST_CASE("reassociate_motion: iterations reuse lists, the stop rests on fresh o
     REQUIRE(r.status.ok());
     CHECK(r.stop_reason == ppcr::StopReason::kCostDrop);
     int reused = 0;
-    for (const ppcr::IterationRecord& h : r.history) reused += !h.associated;
-    for (const ppcr::IterationRecord& h : every.history) CHECK(h.associated);
+    for (const ppcr::IterationRecord& h : r.history) reused += h.lists_reused;
+    for (const ppcr::IterationRecord& h : every.history) CHECK_FALSE(h.lists_reused);
     CHECK(reused > 0);  // the option took effect
-    CHECK(r.history.front().associated);
+    CHECK_FALSE(r.history.front().lists_reused);
+    // The iteration that ended the EM scale's coarse phase (the last at the coarse scale, the
+    // first scale: the next one uses the EM estimate) ran on fresh associations.
+    std::size_t last_coarse = 0;
+    while (last_coarse + 1 < r.history.size() &&
+           r.history[last_coarse + 1].scale == r.history.front().scale) {
+      ++last_coarse;
+    }
+    REQUIRE(last_coarse + 1 < r.history.size());
+    CHECK_FALSE(r.history[last_coarse].lists_reused);
     // The cost-drop stop's patience + 1 low iterations all ran on fresh associations
     // (termination.hpp): a reused iteration's ~0 drop never counts.
     const int patience = o.termination.cost_drop_patience;
     REQUIRE(r.iterations >= patience + 1);
     for (int i = r.iterations - patience - 1; i < r.iterations; ++i) {
       const ppcr::IterationRecord& h = r.history[static_cast<std::size_t>(i)];
-      CHECK(h.associated);
+      CHECK_FALSE(h.lists_reused);
       CHECK(h.cost_drop < o.termination.cost_drop_threshold);
     }
     // Noise-free, the same points: both reach the truth.

@@ -472,6 +472,13 @@ TEST_CASE("lists_reused holds the adaptive counters and asks for fresh lists", "
     TerminationMonitor n(c, some_moments(), Eigen::Isometry3d::Identity());
     n.update(reused(report(1, 1.0, 0.5, 0)));
     CHECK_FALSE(n.wants_fresh_lists());
+    // ... and the one that is does: successful steps alone, 0 steps is low.
+    TerminationMonitor s(only(ppcr::kCriterionSuccessfulSteps), some_moments(),
+                         Eigen::Isometry3d::Identity());
+    s.update(reused(report(1, 1.0, 0.5, 0)));
+    CHECK(s.wants_fresh_lists());
+    s.update(reused(report(2, 1.0, 0.5, 2)));  // 2 steps: not low, no streak
+    CHECK_FALSE(s.wants_fresh_lists());
   }
   SECTION("while the scale settles a reused iteration resets to zero, as any other") {
     TerminationMonitor m(c, some_moments(), Eigen::Isometry3d::Identity());

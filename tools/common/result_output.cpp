@@ -58,7 +58,7 @@ ppcr::Status write_trace_csv(const std::string& path,
   std::fprintf(f,
                "iteration,successful_steps,unsuccessful_steps,initial_cost,final_cost,cost_drop,"
                "mse_prev,mse_ground_truth,benchmark_error,scale,correspondences,"
-               "matched_source_points,tx,ty,tz,qx,qy,qz,qw,time_ms,associated\n");
+               "matched_source_points,tx,ty,tz,qx,qy,qz,qw,lists_reused,time_ms\n");
   for (const ppcr::IterationRecord& h : history) {
     const Eigen::Quaterniond q(h.T_target_source.linear());
     const Eigen::Vector3d t = h.T_target_source.translation();
@@ -68,11 +68,11 @@ ppcr::Status write_trace_csv(const std::string& path,
     }
     std::fprintf(f,
                  "%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%zu,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g,%.6f,%d\n",
+                 "%.17g,%.17g,%d,%.6f\n",
                  h.iteration, h.successful_steps, h.unsuccessful_steps, h.initial_cost,
                  h.final_cost, h.cost_drop, h.mse_prev, gt, h.scale, h.correspondences,
                  h.matched_source_points, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
-                 h.time_ms, h.associated ? 1 : 0);
+                 h.lists_reused ? 1 : 0, h.time_ms);
   }
   const bool ok = std::ferror(f) == 0;
   if (std::fclose(f) != 0 || !ok) {

@@ -28,9 +28,9 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& result, doubl
 
 /// One CSV row per outer iteration: iteration, successful_steps, unsuccessful_steps,
 /// initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth, benchmark_error, scale,
-/// correspondences, matched_source_points, tx, ty, tz, qx, qy, qz, qw, time_ms, associated (1: the
-/// iteration associated afresh, 0: it reused the last lists). Columns without a ground truth are
-/// empty.
+/// correspondences, matched_source_points, tx, ty, tz, qx, qy, qz, qw, lists_reused (1: the
+/// iteration reused the last neighbour lists, 0: it associated afresh), time_ms (last, so that
+/// traces compare with it cut off). Columns without a ground truth are empty.
 ppcr::Status write_trace_csv(const std::string& path,
                              const std::vector<ppcr::IterationRecord>& history);
 
