@@ -75,8 +75,7 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
   last_cost_drop_ = (initial - final_cost) / initial;  // eq. 7
 
   // Update every counter, whichever criteria are enabled; hold them at zero while the E-step
-  // scale is settling. An iteration on reused lists holds them where they are (header) and, if
-  // it would have advanced one, asks for fresh lists.
+  // scale is settling. An iteration on reused lists holds them where they are (header).
   const bool counting = !report.scale_settling;
   const bool still =
       criteria_.cost_drop_max_motion <= 0.0 ||
