@@ -48,8 +48,8 @@ struct RegistrationOptions {
   /// either runs (termination.hpp). Before that rule (commit 2ee5201 and earlier) such
   /// iterations did count, and 0.05 stopped a point-model lidar run in the 1.2 degree local
   /// minimum and a line 2.4 cm short. With the rule the stop's iterations re-associate, and 0.05
-  /// measured error medians within 0.05 % and 0.6-4.2 % less time on the benchmark sets, within
-  /// noise (docs/PERFORMANCE.md, update 65b0f00). Hence still off by default.
+  /// measured error medians within 0.05 % and 0.6-4.2 % less time on the benchmark sets, about
+  /// the run-to-run noise (docs/PERFORMANCE.md, update 65b0f00). Hence still off by default.
   double reassociate_motion = 0.0;
   /// Extra candidates kept per source point for exact incremental association (k + this many
   /// nearest target points within 1.25 x radius, re-ranked or re-sorted at each association; a
