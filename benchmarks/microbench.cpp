@@ -20,7 +20,7 @@
 #include "pair_normals.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
 

@@ -62,8 +62,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fail("the loop stopped before the first iteration without a reason");
     }
   }
-  if (r.iterations > o.termination.max_iterations) fail("iterations above max_iterations");
-  if (r.lm_iterations < 0 || r.lm_iterations > r.iterations * o.lm.max_iterations) {
+  if (r.iterations > o.max_iterations) fail("iterations above max_iterations");
+  if (r.lm_iterations < 0 || r.lm_iterations > r.iterations * o.expert.lm_max_iterations) {
     fail("LM iterations above iterations * lm.max_iterations");
   }
   if (r.lm_successful_steps > r.lm_iterations) fail("more successful LM steps than LM steps");
@@ -71,7 +71,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (static_cast<int>(r.history.size()) != r.iterations) fail("history size != iterations");
     for (const ppcr::IterationRecord& h : r.history) {
       if (!rigid(h.T_target_source)) fail("history pose not finite or not rigid");
-      if (h.successful_steps + h.unsuccessful_steps > o.lm.max_iterations) {
+      if (h.successful_steps + h.unsuccessful_steps > o.expert.lm_max_iterations) {
         fail("history row above lm.max_iterations");
       }
     }

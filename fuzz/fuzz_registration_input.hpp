@@ -183,16 +183,16 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   ppcr::RegistrationOptions& o = r.options;
   const std::uint8_t f0 = in.u8(), f1 = in.u8();
   o.error_model = (f0 & 1) ? ppcr::ErrorModel::kPlane : ppcr::ErrorModel::kPoint;
-  o.weights.model = (f0 & 2) ? ppcr::WeightModel::kGaussian : ppcr::WeightModel::kStudentT;
+  o.expert.weight_model = (f0 & 2) ? ppcr::WeightModel::kGaussian : ppcr::WeightModel::kStudentT;
   switch ((f0 >> 2) & 3) {
     case 1:
-      o.weights.scale_mode = ppcr::ScaleMode::kRaw;
+      o.expert.scale_mode = ppcr::ScaleMode::kRaw;
       break;
     case 2:
-      o.weights.scale_mode = ppcr::ScaleMode::kFixed;
+      o.expert.scale_mode = ppcr::ScaleMode::kFixed;
       break;
     default:
-      o.weights.scale_mode = ppcr::ScaleMode::kEM;
+      o.expert.scale_mode = ppcr::ScaleMode::kEM;
   }
   o.num_threads = (f0 & 16) ? 2 : 1;
   o.record_history = (f0 & 32) == 0;
@@ -201,32 +201,32 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
     o.on_iteration = [](const ppcr::IterationRecord& rec) { return rec.iteration < 2; };
   }
 
-  o.termination.criteria = (in.u8() & 0xFu) ^ ppcr::kCriterionCostDrop;
-  o.termination.max_iterations = small_count(in.u8());
-  o.termination.fixed_iterations = small_count(in.u8());
-  o.lm.max_iterations = small_count(in.u8());
+  o.criteria = (in.u8() & 0xFu) ^ ppcr::kCriterionCostDrop;
+  o.max_iterations = small_count(in.u8());
+  o.expert.fixed_iterations = small_count(in.u8());
+  o.expert.lm_max_iterations = small_count(in.u8());
   const std::uint8_t kb = in.u8();
   o.max_neighbours = kb < 240 ? 1 + (kb + 9) % 16 : 32 << ((kb - 240) % 6);  // 32 .. 1024
   o.radius = in.positive();
-  o.weights.dof = 5.0 * in.positive();
+  o.dof = 5.0 * in.positive();
   const double scale = in.positive();
-  if (o.weights.scale_mode == ppcr::ScaleMode::kFixed || (f1 & 1)) o.weights.scale = scale;
-  o.plane.epsilon = ((in.u8() + 12) % 256 + 1) / 256.0;
-  o.plane.normal_neighbours = 5 + (in.u8() + 15) % 60;
-  o.plane.source_normals = (f1 & 64) != 0;
-  o.termination.cost_drop_patience = (in.u8() + 10) % 16;
-  o.termination.mse_patience = (in.u8() + 3) % 8;
-  o.termination.successful_steps_patience = (in.u8() + 3) % 8;
-  o.termination.successful_steps_threshold = (in.u8() + 1) % 8;
-  o.weights.em_coarse_patience = (in.u8() + 10) % 16;
-  o.weights.em_min_shrink = ((in.u8() + 63) % 256 + 1) / 256.0;  // 0 -> 0.25, the default
-  o.termination.cost_drop_threshold = 0.01 * in.positive();
+  if (o.expert.scale_mode == ppcr::ScaleMode::kFixed || (f1 & 1)) o.expert.scale = scale;
+  o.expert.plane_epsilon = ((in.u8() + 12) % 256 + 1) / 256.0;
+  o.expert.normal_neighbours = 5 + (in.u8() + 15) % 60;
+  o.expert.source_normals = (f1 & 64) != 0;
+  o.expert.cost_drop_patience = (in.u8() + 10) % 16;
+  o.expert.mse_patience = (in.u8() + 3) % 8;
+  o.expert.successful_steps_patience = (in.u8() + 3) % 8;
+  o.expert.successful_steps_threshold = (in.u8() + 1) % 8;
+  o.expert.em_coarse_patience = (in.u8() + 10) % 16;
+  o.expert.em_min_shrink = ((in.u8() + 63) % 256 + 1) / 256.0;  // 0 -> 0.25, the default
+  o.expert.cost_drop_threshold = 0.01 * in.positive();
   const double cd_motion = in.positive(), em_motion = in.positive(), em_min = in.positive();
   const double src_voxel = in.positive(), tgt_voxel = in.positive();
-  if (f1 & 2) o.termination.cost_drop_max_motion = cd_motion;
-  if (f1 & 4) o.weights.em_coarse_max_motion = em_motion;
-  if (f1 & 8) o.weights.em_min_scale = em_min;
-  if (f1 & 128) o.plane.noise_floor = em_min;
+  if (f1 & 2) o.expert.cost_drop_max_motion = cd_motion;
+  (void)em_motion;  // (a byte kept so that the corpus keeps its layout)
+  if (f1 & 8) o.expert.em_min_scale = em_min;
+  if (f1 & 128) o.expert.noise_floor = em_min;
   if (f1 & 16) o.source_voxel = src_voxel;
   if (f1 & 32) o.target_voxel = tgt_voxel;
 

@@ -39,7 +39,9 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
 
   double lambda = options.initial_lambda;
   double lambda_growth = 2.0;  // Nielsen's nu
-  bool last_accepted = true;
+  // The shortcut below needs an accepted step before it, or the start of a solve that may end
+  // unevaluated (lm.hpp).
+  bool last_accepted = !options.evaluate_first_step;
   const double gradient_start = current_.g.cwiseAbs().maxCoeff();
   summary.termination = LMTermination::kMaxIterations;
 
@@ -73,7 +75,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
     // after its pass (the test below). Take it without the pass: the caller evaluates at the new
     // pose anyway (the next outer iteration re-associates there), so the summary's final_cost,
     // last() and weights() stay those of the pose before this step. Only after an accepted step
-    // or at the start, where lambda is not inflated by rejections.
+    // or at the start (unless evaluate_first_step), where lambda is not inflated by rejections.
     if (last_accepted && predicted > 0.0 &&
         predicted < options.function_tolerance * current_.cost) {
       *T = T_trial;

@@ -8,7 +8,7 @@
 #include "association.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/abi.hpp"
-#include "ppcr/lm.hpp"
+#include "lm.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

@@ -61,5 +61,15 @@ double benchmark_error(const PointCloud& source, const Eigen::Isometry3d& T_gt,
   return used > 0 ? total / static_cast<double>(used) : 0.0;
 }
 
+PoseErrors evaluate(const PointCloud& source, const Eigen::Isometry3d& T_est,
+                    const Eigen::Isometry3d& T_gt) {
+  PoseErrors e;
+  e.rotation_error_deg = rotation_error_deg(T_est, T_gt);
+  e.translation_error = translation_error(T_est, T_gt);
+  e.benchmark_error = benchmark_error(source, T_gt, T_est);
+  e.mse = mse_between(compute_moments(source), T_est, T_gt);
+  return e;
+}
+
 }  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

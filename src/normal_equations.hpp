@@ -29,7 +29,7 @@
 
 #include "association.hpp"
 #include "ppcr/abi.hpp"
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

@@ -1,4 +1,4 @@
-// scale_schedule.cpp - see ppcr/weights.hpp (ScaleMode, WeightOptions) for the schedule.
+// scale_schedule.cpp - the schedule documented in scale_schedule.hpp.
 #include "scale_schedule.hpp"
 
 #include <algorithm>
@@ -26,9 +26,7 @@ ScaleSchedule::ScaleSchedule(const WeightOptions& options, double radius)
   }
 }
 
-void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_sq,
-                           bool lists_reused) {
-  wants_fresh_lists_ = false;
+void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_sq) {
   if (options_.scale_mode != ScaleMode::kEM) return;
   if (coarse_) {
     // Phase 1: hold s until the pose has settled at this scale. (NaN drops count as settled.)
@@ -36,15 +34,9 @@ void ScaleSchedule::update(double cost_drop, double rms_motion, double em_scale_
                       rms_motion < options_.em_coarse_max_motion * radius_;
     const bool low = slow && !(cost_drop >= options_.em_coarse_drop);
     const bool still = rms_motion < options_.em_coarse_motion * std::sqrt(scale_sq_);
-    if (lists_reused) {  // no evidence either way (header): hold, and ask for fresh lists
-      wants_fresh_lists_ = low || still || low_drop_count_ > 0;
-      return;
-    }
     low_drop_count_ = low ? low_drop_count_ + 1 : 0;
-    wants_fresh_lists_ = low_drop_count_ > 0;  // a streak is running: count fresh iterations
     if (low_drop_count_ <= options_.em_coarse_patience && !still) return;
     coarse_ = false;  // settled: the EM updates start with this iteration's estimate
-    wants_fresh_lists_ = false;
   }
   // Phase 2: EM estimate, shrinking by at most em_min_shrink per iteration, floored.
   const double limit_sq = options_.em_min_shrink * scale_sq_;

@@ -1,12 +1,37 @@
-// scale_schedule.hpp - the E-step scale s across outer iterations (raw, fixed, or the
-// coarse-to-fine EM schedule documented in ppcr/weights.hpp).
+// scale_schedule.hpp - the E-step scale s across outer iterations: raw, fixed, or the
+// coarse-to-fine EM schedule (ScaleMode::kEM):
+//  1. coarse: s = scale (or radius / 2 when scale is 0) until the pose has settled at that
+//     scale: the relative cost drop of more than em_coarse_patience consecutive outer iterations
+//     was below em_coarse_drop (an iteration counts only when it moved the source by less than
+//     em_coarse_max_motion x radius, RMS), or one iteration moved the source by less than
+//     em_coarse_motion x s (RMS). A wide kernel has a wide basin: this is what lets PPCR leave
+//     the local minima a small scale creates.
+//  2. refine: after every outer iteration s^2 <- max(EM estimate, em_min_shrink x s^2,
+//     em_min_scale^2), the EM estimate being sum_kj w_kj r_kj / (3 x matched source points) at
+//     the final pose (the M-step of the scale).
+// While the scale is coarse or still shrinking at the em_min_shrink limit, it is "settling": the
+// adaptive termination criteria do not count (termination.hpp).
 #pragma once
 
 #include "ppcr/abi.hpp"
-#include "ppcr/weights.hpp"
+#include "ppcr/options.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
+
+struct WeightOptions {
+  ScaleMode scale_mode = ScaleMode::kEM;
+  double scale = 0.0;                  // kFixed: s; kEM: coarse s (0 = radius / 2); cloud units
+  double em_coarse_drop = 0.01;        // coarse phase: relative cost drop counted as settled
+  int em_coarse_patience = 10;         // coarse phase: settled after more than this many lows
+  double em_coarse_motion = 1e-3;      // coarse phase: or one iteration moving the source by less
+                                       // than this fraction of s (RMS)
+  double em_coarse_max_motion = 0.02;  // coarse phase: a low counts only when the source moved by
+                                       // less than this fraction of the radius (RMS); 0 = always
+  double em_min_shrink = 0.25;         // refine: s^2 shrinks by at most this factor per iteration
+  double em_min_scale = 0.0;           // refine: floor on s, cloud units (0 = none)
+};
+
 namespace detail {
 
 class ScaleSchedule {
@@ -17,25 +42,15 @@ class ScaleSchedule {
   /// s^2 for the next outer iteration, cloud units^2.
   double scale_sq() const { return scale_sq_; }
 
-  /// True while the scale is coarse or still shrinking at the em_min_shrink limit: the
-  /// adaptive termination criteria should not count this iteration.
+  /// True while the scale is coarse or still shrinking at the em_min_shrink limit.
   bool settling() const { return settling_; }
 
   /// True during the coarse phase of the EM schedule.
   bool coarse() const { return coarse_; }
 
   /// After an outer iteration: its relative cost drop, the RMS motion of the source it caused
-  /// (sqrt of the MSE w.r.t. the previous pose), the EM estimate of s^2 at its final pose, and
-  /// whether it reused the last associations (RegistrationOptions::reassociate_motion). A
-  /// coarse-phase iteration on reused lists re-solved the problem just solved: its drop and
-  /// motion are ~0 by construction, so it neither counts toward the end of the coarse phase nor
-  /// resets the count, and ends nothing; if it would have, wants_fresh_lists() asks for fresh
-  /// associations, whose iteration then decides (as termination.hpp does for the criteria).
-  void update(double cost_drop, double rms_motion, double em_scale_sq, bool lists_reused = false);
-  /// True in the coarse phase while a streak of low drops runs, or when the last update() reused
-  /// lists and would have counted toward (or ended) the coarse phase: the next iteration should
-  /// associate afresh.
-  bool wants_fresh_lists() const { return wants_fresh_lists_; }
+  /// (sqrt of the MSE w.r.t. the previous pose), and the EM estimate of s^2 at its final pose.
+  void update(double cost_drop, double rms_motion, double em_scale_sq);
 
  private:
   WeightOptions options_;
@@ -44,7 +59,6 @@ class ScaleSchedule {
   bool coarse_ = false;
   bool settling_ = false;
   int low_drop_count_ = 0;
-  bool wants_fresh_lists_ = false;
 };
 
 }  // namespace detail

@@ -1,6 +1,6 @@
 // termination.cpp - the termination monitor (paper Sec. 3.2; when each criterion fires is
 // documented in termination.hpp).
-#include "ppcr/termination.hpp"
+#include "termination.hpp"
 
 #include <cmath>
 #include <limits>
@@ -75,7 +75,7 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
   last_cost_drop_ = (initial - final_cost) / initial;  // eq. 7
 
   // Update every counter, whichever criteria are enabled; hold them at zero while the E-step
-  // scale is settling. An iteration on reused lists holds them where they are (header).
+  // scale is settling.
   const bool counting = !report.scale_settling;
   const bool still =
       criteria_.cost_drop_max_motion <= 0.0 ||
@@ -86,21 +86,12 @@ StopReason TerminationMonitor::update(const IterationReport& report) {
                    (t >= 2 && last_mse_prev_ < previous_mse_ / criteria_.mse_ratio_threshold));
   const bool steps_low =
       counting && report.lm.successful_steps <= criteria_.successful_steps_threshold;
-  const bool hold = report.lists_reused && counting;
-  if (!hold) {
-    previous_mse_ = last_mse_prev_;  // the MSE ratio's reference holds with the counters
-    low_cost_drop_count_ = drop_low ? low_cost_drop_count_ + 1 : 0;
-    low_mse_count_ = mse_low ? low_mse_count_ + 1 : 0;
-    low_steps_count_ = steps_low ? low_steps_count_ + 1 : 0;
-  }
-  // Fresh lists for the next iteration when an enabled criterion's streak is running or this
-  // reused iteration would have started or extended one.
-  const std::uint32_t c = criteria_.criteria;
-  wants_fresh_lists_ =
-      ((c & kCriterionCostDrop) && (low_cost_drop_count_ > 0 || (hold && drop_low))) ||
-      ((c & kCriterionMsePrev) && (low_mse_count_ > 0 || (hold && mse_low))) ||
-      ((c & kCriterionSuccessfulSteps) && (low_steps_count_ > 0 || (hold && steps_low)));
+  previous_mse_ = last_mse_prev_;
+  low_cost_drop_count_ = drop_low ? low_cost_drop_count_ + 1 : 0;
+  low_mse_count_ = mse_low ? low_mse_count_ + 1 : 0;
+  low_steps_count_ = steps_low ? low_steps_count_ + 1 : 0;
 
+  const std::uint32_t c = criteria_.criteria;
   if ((c & kCriterionFixed) && t >= criteria_.fixed_iterations) return StopReason::kFixedIterations;
   if ((c & kCriterionCostDrop) && low_cost_drop_count_ > criteria_.cost_drop_patience) {
     return StopReason::kCostDrop;

@@ -31,7 +31,7 @@
 #include <limits>
 
 #include "ppcr/abi.hpp"
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

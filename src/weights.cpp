@@ -1,5 +1,5 @@
 // weights.cpp - the public one-point E-step (the kernels are in weight_kernel.hpp).
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 
 #include <cmath>
 

@@ -99,10 +99,11 @@ int main(int argc, char** argv) {
                  target.size());
     options.on_iteration = [](const ppcr::IterationRecord& r) {
       std::fprintf(stderr,
-                   "iter %3d  steps %2d/%-2d  cost %.6g -> %.6g  drop %+.4f  scale %.4g  "
+                   "iter %3d  %-6s  steps %2d/%-2d  cost %.6g -> %.6g  drop %+.3e  scale %.4g  "
                    "pairs %zu  %.1f ms\n",
-                   r.iteration, r.successful_steps, r.unsuccessful_steps, r.initial_cost,
-                   r.final_cost, r.cost_drop, r.scale, r.correspondences, r.time_ms);
+                   r.iteration, r.coarse ? "coarse" : "fine", r.successful_steps,
+                   r.unsuccessful_steps, r.initial_cost, r.final_cost, r.cost_drop, r.scale,
+                   r.correspondences, r.time_ms);
       return true;
     };
   }
@@ -110,16 +111,12 @@ int main(int argc, char** argv) {
 
   const auto start = std::chrono::steady_clock::now();
   const ppcr::RegistrationResult result =
-      ppcr::align(source, target, options, T_initial, has_gt ? &T_gt : nullptr);
+      ppcr::align(source, target, options, T_initial);
   const double time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
-  ppcr_tools::GroundTruthErrors gt;
-  if (has_gt) {
-    gt.rotation_error_deg = ppcr::rotation_error_deg(result.T_target_source, T_gt);
-    gt.translation_error = ppcr::translation_error(result.T_target_source, T_gt);
-    gt.benchmark_error = ppcr::benchmark_error(source, T_gt, result.T_target_source);
-  }
+  ppcr::PoseErrors gt;
+  if (has_gt) gt = ppcr::evaluate(source, result.T_target_source, T_gt);
   if (json) {
     std::printf("%s\n",
                 ppcr_tools::result_json(result, time_ms, has_gt ? &gt : nullptr).dump(2).c_str());
@@ -127,7 +124,7 @@ int main(int argc, char** argv) {
   if (!result.status.ok()) return fail(result.status.message());
 
   if (!trace.empty()) {
-    s = ppcr_tools::write_trace_csv(trace, result.history);
+    s = ppcr_tools::write_trace_csv(trace, result.history, source, has_gt ? &T_gt : nullptr);
     if (!s.ok()) return fail(s.message());
   }
   if (!out_transform.empty()) {

@@ -1,4 +1,5 @@
-// metrics.hpp - errors between poses and the point clouds registration benchmark's metric.
+// metrics.hpp - errors between poses and the point clouds registration benchmark's metric:
+// evaluation against a ground truth, run by the caller after a registration (never inside it).
 #pragma once
 
 #include <Eigen/Core>
@@ -37,6 +38,18 @@ double translation_error(const Eigen::Isometry3d& T_est, const Eigen::Isometry3d
 /// Points with P_i == c are skipped. Returns 0 for an empty cloud.
 double benchmark_error(const PointCloud& source, const Eigen::Isometry3d& T_gt,
                        const Eigen::Isometry3d& T_est);
+
+/// A registration's errors against a ground truth.
+struct PoseErrors {
+  double rotation_error_deg = 0.0;  // rotation_error_deg(T_est, T_gt)
+  double translation_error = 0.0;   // translation_error(T_est, T_gt), cloud units
+  double benchmark_error = 0.0;     // benchmark_error(source, T_gt, T_est)
+  double mse = 0.0;                 // mean |T_est x - T_gt x|^2 over source, cloud units^2
+};
+
+/// All of PoseErrors for T_est on `source` (the cloud that was registered).
+PoseErrors evaluate(const PointCloud& source, const Eigen::Isometry3d& T_est,
+                    const Eigen::Isometry3d& T_gt);
 
 }  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

@@ -76,7 +76,7 @@ TEST_CASE("the outer loop allocates nothing once a Registration has run once", "
       RegistrationOptions o;
       o.radius = 0.2;
       o.error_model = mo.model;
-      o.plane.source_normals = mo.source_normals;
+      o.expert.source_normals = mo.source_normals;
       o.num_threads = threads;
       o.record_history = false;
       o.on_iteration = [&](const ppcr::IterationRecord&) {

@@ -10,7 +10,7 @@
 #include "association.hpp"
 #include "core_test_util.hpp"
 #include "lm_solver.hpp"
-#include "ppcr/lm.hpp"
+#include "lm.hpp"
 
 using core_test::Rng;
 using ppcr::LMOptions;

@@ -597,12 +597,12 @@ TEST_CASE("registration with and without the neighbour cache gives the same pose
     ppcr::RegistrationOptions o;
     o.radius = 0.2;
     o.error_model = model;
-    o.neighbour_cache = 0;
+    o.expert.neighbour_cache = 0;
     const ppcr::RegistrationResult plain = ppcr::align(source, target, o);
     REQUIRE(plain.status.ok());
     for (int extra : {4, 8}) {  // the default, and the default before the set certificate
       INFO("neighbour_cache " << extra);
-      o.neighbour_cache = extra;
+      o.expert.neighbour_cache = extra;
       const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
       REQUIRE(cached.status.ok());
       CHECK(plain.iterations == cached.iterations);
@@ -617,10 +617,10 @@ TEST_CASE("registration with and without the neighbour cache gives the same pose
   // every point at the switch: the same pose as without the cache, with that stride.
   ppcr::RegistrationOptions o;
   o.radius = 0.2;
-  o.coarse_stride = 2;
-  o.neighbour_cache = 0;
+  o.expert.coarse_stride = 2;
+  o.expert.neighbour_cache = 0;
   const ppcr::RegistrationResult plain = ppcr::align(source, target, o);
-  o.neighbour_cache = 4;
+  o.expert.neighbour_cache = 4;
   const ppcr::RegistrationResult cached = ppcr::align(source, target, o);
   REQUIRE(plain.status.ok());
   REQUIRE(cached.status.ok());

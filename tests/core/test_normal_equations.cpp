@@ -11,7 +11,7 @@
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/se3.hpp"
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 #include "scale_schedule.hpp"
 
 using ppcr::ScaleMode;
@@ -90,36 +90,6 @@ TEST_CASE("EM coarse phase: one iteration that barely moves the source settles i
   s.update(0.5, 1.5e-4, 0.03);  // moved 1.5e-4 < 2e-4: settled, EM estimate 0.03 > 0.5 * 0.04
   CHECK(s.scale_sq() == 0.03);
   CHECK_FALSE(s.settling());
-}
-
-TEST_CASE("EM coarse phase: an iteration on reused lists neither counts, resets nor ends it",
-          "[scale_schedule]") {
-  WeightOptions o = em(0.0);     // s = 0.5 for radius 1, "still" below 0.5 * 1e-3 = 5e-4
-  o.em_coarse_max_motion = 0.0;  // motion-blind count
-  o.em_coarse_patience = 3;
-  o.em_min_shrink = 0.5;
-  ScaleSchedule s(o, 1.0);
-  s.update(0.5, 0.1, 1e-4, /*lists_reused=*/true);  // high drop, moving, no streak: reuse on
-  CHECK_FALSE(s.wants_fresh_lists());
-  s.update(0.0, 0.0, 1e-4, true);  // low and still: would end the phase, but holds
-  CHECK(s.scale_sq() == 0.25);
-  CHECK(s.coarse());
-  CHECK(s.wants_fresh_lists());
-  s.update(0.001, 0.1, 1e-4);      // fresh low: 1
-  CHECK(s.wants_fresh_lists());    // a streak runs: count fresh iterations
-  s.update(0.001, 0.1, 1e-4);      // 2
-  s.update(0.5, 0.1, 1e-4, true);  // reused high: held at 2 (a fresh one would reset to 0)
-  CHECK(s.wants_fresh_lists());
-  s.update(0.001, 0.1, 1e-4);  // 3
-  CHECK(s.coarse());
-  s.update(0.001, 0.1, 1e-4);  // 4 > 3: settled, max(1e-4, 0.5 * 0.25)
-  CHECK_FALSE(s.coarse());
-  CHECK(s.scale_sq() == 0.125);
-  // The refine phase takes reused iterations' EM estimates as any other (an M-step on the same
-  // associations is an M-step) and asks for nothing.
-  s.update(0.0, 0.0, 0.1, true);
-  CHECK(s.scale_sq() == 0.1);
-  CHECK_FALSE(s.wants_fresh_lists());
 }
 
 TEST_CASE("EM refine phase: shrink limit, growth and floor", "[scale_schedule]") {

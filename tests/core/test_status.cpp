@@ -3,9 +3,9 @@
 #include <set>
 #include <string>
 
-#include "ppcr/lm.hpp"
+#include "lm.hpp"
 #include "ppcr/status.hpp"
-#include "ppcr/termination.hpp"
+#include "termination.hpp"
 
 TEST_CASE("Status: default and Ok() are ok, with an empty message", "[status]") {
   const ppcr::Status a;

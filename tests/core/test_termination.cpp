@@ -7,7 +7,7 @@
 
 #include "core_test_util.hpp"
 #include "ppcr/metrics.hpp"
-#include "ppcr/termination.hpp"
+#include "termination.hpp"
 
 using ppcr::IterationReport;
 using ppcr::StopReason;
@@ -425,88 +425,6 @@ TEST_CASE("scale_settling holds the adaptive counters at zero", "[termination]")
     CHECK(run(m2, [](int t) {
             return report(t, 1.0, 0.999, 5, Eigen::Isometry3d::Identity(), true);
           }) == std::make_pair(5, StopReason::kMaxIterations));
-  }
-}
-
-TEST_CASE("lists_reused holds the adaptive counters and asks for fresh lists", "[termination]") {
-  auto reused = [](IterationReport r, bool settling = false) {
-    r.lists_reused = true;
-    r.scale_settling = settling;
-    return r;
-  };
-  TerminationCriteria c = only(ppcr::kCriterionCostDrop);
-  c.cost_drop_patience = 2;
-  SECTION("only iterations on fresh lists count") {
-    // Low drops throughout, every 2nd iteration on reused lists: the counter reaches 3 (> 2) at
-    // the 3rd fresh iteration, t = 5 (t = 3 with every iteration fresh).
-    TerminationMonitor m(c, some_moments(), Eigen::Isometry3d::Identity());
-    const auto stop = run(m, [&](int t) {
-      const IterationReport r = report(t, 1.0, 0.999);
-      return t % 2 == 0 ? reused(r) : r;
-    });
-    CHECK(stop == std::make_pair(5, StopReason::kCostDrop));
-  }
-  SECTION("a reused iteration neither resets the counter nor counts") {
-    // Fresh low (1), reused high: held at 1 (a fresh high would reset to 0), fresh low (2),
-    // fresh low (3 > 2): fires at t = 4.
-    TerminationMonitor m(c, some_moments(), Eigen::Isometry3d::Identity());
-    CHECK(m.update(report(1, 1.0, 0.999)) == StopReason::kNone);
-    CHECK(m.wants_fresh_lists());  // a streak runs (the solver would not reuse here)
-    CHECK(m.update(reused(report(2, 1.0, 0.5))) == StopReason::kNone);
-    CHECK(m.wants_fresh_lists());  // held at 1: still running
-    CHECK(m.update(report(3, 1.0, 0.999)) == StopReason::kNone);
-    CHECK(m.update(report(4, 1.0, 0.999)) == StopReason::kCostDrop);
-  }
-  SECTION("wants_fresh_lists: a reused iteration that would have counted, or a running streak") {
-    TerminationMonitor m(c, some_moments(), Eigen::Isometry3d::Identity());
-    m.update(reused(report(1, 1.0, 0.5)));  // high drop, no streak: reuse on
-    CHECK_FALSE(m.wants_fresh_lists());
-    m.update(reused(report(2, 1.0, 0.999)));  // would have counted
-    CHECK(m.wants_fresh_lists());
-    m.update(report(3, 1.0, 0.5));  // fresh, high: no streak
-    CHECK_FALSE(m.wants_fresh_lists());
-    m.update(report(4, 1.0, 0.999));  // fresh, low: a streak of 1
-    CHECK(m.wants_fresh_lists());
-    // A criterion that is not enabled asks for nothing: 0 successful steps is low by
-    // successful_steps_threshold, but only the cost drop is enabled (and this drop is high).
-    TerminationMonitor n(c, some_moments(), Eigen::Isometry3d::Identity());
-    n.update(reused(report(1, 1.0, 0.5, 0)));
-    CHECK_FALSE(n.wants_fresh_lists());
-    // ... and the one that is does: successful steps alone, 0 steps is low.
-    TerminationMonitor s(only(ppcr::kCriterionSuccessfulSteps), some_moments(),
-                         Eigen::Isometry3d::Identity());
-    s.update(reused(report(1, 1.0, 0.5, 0)));
-    CHECK(s.wants_fresh_lists());
-    s.update(reused(report(2, 1.0, 0.5, 2)));  // 2 steps: not low, no streak
-    CHECK_FALSE(s.wants_fresh_lists());
-  }
-  SECTION("while the scale settles a reused iteration resets to zero, as any other") {
-    TerminationMonitor m(c, some_moments(), Eigen::Isometry3d::Identity());
-    m.update(report(1, 1.0, 0.999));                             // 1
-    m.update(report(2, 1.0, 0.999));                             // 2
-    m.update(reused(report(3, 1.0, 0.999), /*settling=*/true));  // 0
-    CHECK_FALSE(m.wants_fresh_lists());
-    CHECK(run(m, [](int t) { return report(t + 3, 1.0, 0.999); }) ==
-          std::make_pair(3, StopReason::kCostDrop));  // 1, 2, 3: the 3rd update after
-  }
-  SECTION("the MSE ratio's reference holds with the counters") {
-    // MSE_t of a translation by d along x is d^2 (mse_between, any source). t = 1 moves 1
-    // (MSE 1); t = 2, reused, moves 1e-3 (1e-6: would be low, held); t = 3 moves 0.4 (0.16):
-    // low against the held 1 / 2, so with patience 0 it fires; against 1e-6 / 2 it would not.
-    TerminationCriteria mse = only(ppcr::kCriterionMsePrev);
-    mse.mse_patience = 0;
-    TerminationMonitor m(mse, some_moments(), Eigen::Isometry3d::Identity());
-    CHECK(m.update(report(1, 1.0, 0.5, 5, shift(1.0))) == StopReason::kNone);
-    CHECK(m.update(reused(report(2, 1.0, 0.5, 5, shift(1.001)))) == StopReason::kNone);
-    CHECK(m.wants_fresh_lists());
-    CHECK(m.update(report(3, 1.0, 0.5, 5, shift(1.401))) == StopReason::kMsePrev);
-  }
-  SECTION("fixed iterations and the cap count every iteration") {
-    TerminationCriteria f = only(ppcr::kCriterionFixed);
-    f.fixed_iterations = 3;
-    TerminationMonitor m(f, some_moments(), Eigen::Isometry3d::Identity());
-    CHECK(run(m, [&](int t) { return reused(report(t, 1.0, 0.999)); }) ==
-          std::make_pair(3, StopReason::kFixedIterations));
   }
 }
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core_test_util.hpp"
-#include "ppcr/weights.hpp"
+#include "weights.hpp"
 
 using core_test::Rng;
 using ppcr::compute_weights;

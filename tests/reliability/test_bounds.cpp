@@ -69,7 +69,7 @@ TEST_CASE("the outer cap bounds every run, whatever the input", "[reliability][b
       for (int cap : {1, 3, 8}) {
         INFO(p.what << ", model " << static_cast<int>(model) << ", max_iterations " << cap);
         RegistrationOptions o = p.options;
-        o.termination.max_iterations = cap;
+        o.max_iterations = cap;
         int calls = 0;
         o.on_iteration = [&](const ppcr::IterationRecord& rec) {
           ++calls;
@@ -83,7 +83,7 @@ TEST_CASE("the outer cap bounds every run, whatever the input", "[reliability][b
         CHECK(calls == r.iterations);
         CHECK(static_cast<int>(r.history.size()) == r.iterations);
         // Without any criterion only the cap (or a failure) can stop the loop.
-        o.termination.criteria = 0;
+        o.criteria = 0;
         calls = 0;
         const RegistrationResult c = ppcr::align(p.source, p.target, o);
         INFO("no criterion: " << describe(c));
@@ -111,12 +111,10 @@ TEST_CASE("lm.max_iterations bounds each inner problem, and is reached", "[relia
       RegistrationOptions o;
       o.radius = 0.3;
       o.error_model = model;
-      o.lm.max_iterations = lm_cap;
-      o.lm.function_tolerance = 0.0;       // only the cap (or a rejected run of steps) stops the LM
-      o.lm.fine_function_tolerance = 0.0;  // in the EM fine phase too (its default is 1e-2)
-      o.lm.gradient_tolerance = 0.0;
-      o.lm.step_tolerance = 0.0;
-      o.termination.max_iterations = 20;
+      o.expert.lm_max_iterations = lm_cap;
+      o.expert.lm_function_tolerance = 0.0;       // only the cap (or a rejected run of steps) stops the LM
+      o.expert.lm_fine_function_tolerance = 0.0;  // in the EM fine phase too (its default is 1e-2)
+      o.max_iterations = 20;
       const RegistrationResult r = ppcr::align(source, target, o);
       INFO(describe(r));
       CHECK(rel_test::invariant_violation(r, o) == "");
@@ -167,8 +165,8 @@ TEST_CASE("on_iteration cancels at any iteration; a criterion firing then takes 
     }
     // Fixed iterations firing at the iteration the callback cancels: the criterion is reported.
     RegistrationOptions f = o;
-    f.termination.criteria = ppcr::kCriterionFixed;
-    f.termination.fixed_iterations = 3;
+    f.criteria = ppcr::kCriterionFixed;
+    f.expert.fixed_iterations = 3;
     f.on_iteration = [](const ppcr::IterationRecord& rec) { return rec.iteration < 3; };
     const RegistrationResult r = ppcr::align(source, target, f);
     CHECK(r.stop_reason == StopReason::kFixedIterations);

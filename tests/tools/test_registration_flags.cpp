@@ -36,40 +36,40 @@ TEST_CASE("no flags give the library's default options", "[tools]") {
   CHECK(p.options.radius == defaults.radius);
   CHECK(p.options.max_neighbours == defaults.max_neighbours);
   CHECK(p.options.error_model == defaults.error_model);
-  CHECK(p.options.neighbour_cache == defaults.neighbour_cache);
-  CHECK(p.options.coarse_stride == defaults.coarse_stride);
-  CHECK(p.options.lm.function_tolerance == defaults.lm.function_tolerance);
-  CHECK(p.options.lm.fine_function_tolerance == defaults.lm.fine_function_tolerance);
-  CHECK(p.options.weights.em_min_shrink == defaults.weights.em_min_shrink);
+  CHECK(p.options.expert.neighbour_cache == defaults.expert.neighbour_cache);
+  CHECK(p.options.expert.coarse_stride == defaults.expert.coarse_stride);
+  CHECK(p.options.expert.lm_function_tolerance == defaults.expert.lm_function_tolerance);
+  CHECK(p.options.expert.lm_fine_function_tolerance == defaults.expert.lm_fine_function_tolerance);
+  CHECK(p.options.expert.em_min_shrink == defaults.expert.em_min_shrink);
 }
 
 TEST_CASE("the LM tolerance flags reach the LM options", "[tools]") {
   const Parsed p = parse("--lm-tolerance 0.001 --lm-fine-tolerance 0.02 --radius 0.5");
   REQUIRE(p.status.ok());
-  CHECK(p.options.lm.function_tolerance == 0.001);
-  CHECK(p.options.lm.fine_function_tolerance == 0.02);
+  CHECK(p.options.expert.lm_function_tolerance == 0.001);
+  CHECK(p.options.expert.lm_fine_function_tolerance == 0.02);
   CHECK(p.options.radius == 0.5);
   CHECK(ppcr::validate(p.options).ok());
 }
 
 TEST_CASE("the LM fine tolerance flag takes auto (the default) or a number", "[tools]") {
-  CHECK(parse("").options.lm.fine_function_tolerance == ppcr::LMOptions::kAutomatic);
+  CHECK(parse("").options.expert.lm_fine_function_tolerance == ppcr::ExpertOptions::kAutomatic);
   const Parsed automatic = parse("--lm-fine-tolerance auto");
   REQUIRE(automatic.status.ok());
-  CHECK(automatic.options.lm.fine_function_tolerance == ppcr::LMOptions::kAutomatic);
+  CHECK(automatic.options.expert.lm_fine_function_tolerance == ppcr::ExpertOptions::kAutomatic);
   const Parsed off = parse("--lm-fine-tolerance 0 --scale raw");
   REQUIRE(off.status.ok());
-  CHECK(off.options.lm.fine_function_tolerance == 0.0);
+  CHECK(off.options.expert.lm_fine_function_tolerance == 0.0);
 }
 
 TEST_CASE("the coarse stride flag takes auto (the default) or an integer in [1, 64]", "[tools]") {
-  CHECK(parse("").options.coarse_stride == ppcr::RegistrationOptions::kAutomatic);
-  CHECK(parse("--coarse-stride auto").options.coarse_stride ==
-        ppcr::RegistrationOptions::kAutomatic);
+  CHECK(parse("").options.expert.coarse_stride == ppcr::ExpertOptions::kAutomatic);
+  CHECK(parse("--coarse-stride auto").options.expert.coarse_stride ==
+        ppcr::ExpertOptions::kAutomatic);
   for (int stride : {1, 4, 64}) {
     const Parsed p = parse("--coarse-stride " + std::to_string(stride));
     REQUIRE(p.status.ok());
-    CHECK(p.options.coarse_stride == stride);
+    CHECK(p.options.expert.coarse_stride == stride);
     CHECK(ppcr::validate(p.options).ok());
   }
   CHECK(parse("--coarse-stride 1 --scale raw").status.ok());  // 1 is every point: no EM needed

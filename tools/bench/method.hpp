@@ -40,9 +40,9 @@ class Method {
   virtual std::string name() const = 0;
   /// Registers source onto target from identity. Timed by the caller, whole call.
   virtual MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) = 0;
-  /// Methods that can trace their iterations (ppcr) record the next run's history, with the
-  /// ground-truth columns filled from T_gt. Others ignore it.
-  virtual void set_trace(const Eigen::Isometry3d* T_gt) { (void)T_gt; }
+  /// Methods that can trace their iterations (ppcr) record the next runs' history. Others
+  /// ignore it.
+  virtual void set_trace(bool trace) { (void)trace; }
 };
 
 /// Method names this build offers ("ppcr" always; "pcl-icp", ... with peers).

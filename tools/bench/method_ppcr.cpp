@@ -15,14 +15,10 @@ class PpcrMethod : public Method {
   PpcrMethod(const ppcr::RegistrationOptions& options, bool reuse)
       : options_(options), reuse_(reuse) {}
   std::string name() const override { return "ppcr"; }
-  void set_trace(const Eigen::Isometry3d* T_gt) override {
-    trace_ = T_gt != nullptr;
-    if (trace_) T_gt_ = *T_gt;
-  }
+  void set_trace(bool trace) override { trace_ = trace; }
   MethodResult run(const ppcr::PointCloud& source, const ppcr::PointCloud& target) override {
     ppcr::RegistrationOptions options = options_;
     options.record_history = trace_;
-    const Eigen::Isometry3d* T_gt = trace_ ? &T_gt_ : nullptr;
     MethodResult out;
     ppcr::RegistrationResult r;
     if (reuse_) {
@@ -37,9 +33,9 @@ class PpcrMethod : public Method {
         out.stop_reason = ppcr::to_string(ppcr::StopReason::kInvalidInput);
         return out;
       }
-      r = registration_->align(source, Eigen::Isometry3d::Identity(), T_gt);
+      r = registration_->align(source, Eigen::Isometry3d::Identity());
     } else {
-      r = ppcr::align(source, target, options, Eigen::Isometry3d::Identity(), T_gt);
+      r = ppcr::align(source, target, options, Eigen::Isometry3d::Identity());
     }
     out.ok = r.status.ok();
     out.message = r.status.message();
@@ -56,7 +52,6 @@ class PpcrMethod : public Method {
   bool reuse_;
   std::unique_ptr<ppcr::Registration> registration_;  // with reuse_
   bool trace_ = false;
-  Eigen::Isometry3d T_gt_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace

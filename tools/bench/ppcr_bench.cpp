@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
   settings.ppcr = options;
   settings.max_correspondence = options.radius;
   settings.ndt_resolution = ndt_resolution > 0.0 ? ndt_resolution : 2.0 * options.radius;
-  settings.max_iterations = options.termination.max_iterations;
+  settings.max_iterations = options.max_iterations;
   settings.threads = options.num_threads;
   settings.reuse_registration = reuse;
   std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(method_name, settings);
@@ -173,6 +173,7 @@ int main(int argc, char** argv) {
     return fail("--method " + method_name + ": unknown or not built (available:" + names + ")");
   }
   if (label.empty()) label = method->name();
+  if (!trace_dir.empty()) method->set_trace(true);
 
   std::FILE* csv = nullptr;
   if (!out_csv.empty()) {
@@ -202,19 +203,20 @@ int main(int argc, char** argv) {
       S_filtered = S;
     }
     const Eigen::Isometry3d T_gt = p.T0.inverse();
-    if (!trace_dir.empty()) method->set_trace(&T_gt);
     const auto start = std::chrono::steady_clock::now();
     const ppcr_bench::MethodResult r = method->run(S_filtered, *target);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!trace_dir.empty()) {
-      s = ppcr_tools::write_trace_csv(trace_dir + "/" + p.id + ".csv", r.history);
+      s = ppcr_tools::write_trace_csv(trace_dir + "/" + p.id + ".csv", r.history, S_filtered,
+                                      &T_gt);
       if (!s.ok()) return fail(s.message());
     }
     ppcr_bench::ProblemOutcome o;
-    o.error = ppcr::benchmark_error(S, T_gt, r.T_target_source);
-    o.rotation_error_deg = ppcr::rotation_error_deg(r.T_target_source, T_gt);
-    o.translation_error = ppcr::translation_error(r.T_target_source, T_gt);
+    const ppcr::PoseErrors e = ppcr::evaluate(S, r.T_target_source, T_gt);
+    o.error = e.benchmark_error;
+    o.rotation_error_deg = e.rotation_error_deg;
+    o.translation_error = e.translation_error;
     o.iterations = r.iterations;
     o.time_ms = ms;
     outcomes.push_back(o);

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
 
 namespace ppcr_tools {
 namespace {
 
 ppcr::Status bad(const std::string& flag, const std::string& value, const std::string& why) {
-  return ppcr::Status(ppcr::StatusCode::kInvalidArgument, flag + " " + value + ": " + why);
+  return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
+                      flag + " '" + value + "': " + why);
 }
 
 std::string str(double v) {
@@ -27,288 +29,251 @@ bool parse_finite(const std::string& text, double* v) {
   return !text.empty() && *end == '\0' && errno == 0 && std::isfinite(*v);
 }
 
-}  // namespace
+const CLI::Validator kNonEmpty(
+    [](std::string& value) -> std::string {
+      return value.empty() ? std::string("an empty value is not a value") : std::string();
+    },
+    "", "non-empty");
 
-void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
-  app.add_option("--radius", f->radius,
-                 "association radius, cloud units (default " + str(f->radius) + ")");
-  app.add_option("--max-neighbours", f->max_neighbours,
-                 "target points associated with each source point (default " +
-                     std::to_string(f->max_neighbours) + ")");
-  app.add_option("--dof", f->dof, "Student-t degrees of freedom (default " + str(f->dof) + ")");
-  app.add_flag("--gaussian", f->gaussian, "Gaussian weights (paper eq. 2) instead of Student-t");
-  app.add_option("--scale", f->scale,
-                 "E-step scale: em (coarse-to-fine EM, default), raw (the paper's unit "
-                 "variance: depends on the data's units), or a fixed value in cloud units");
-  app.add_option("--coarse-scale", f->coarse_scale,
-                 "EM's coarse scale, cloud units (default 0 = radius / 2)");
-  app.add_option("--min-scale", f->min_scale,
-                 "EM scale: floor on the refined scale s, cloud units (default 0 = none)");
-  app.add_option("--criterion", f->criterion,
-                 "termination: cost-drop (default), mse-prev, successful-steps, fixed, or a "
-                 "comma-separated combination (stops when any fires)");
-  app.add_option(
-      "--cost-drop-threshold", f->cost_drop_threshold,
-      "relative cost drop counted as low (default " + str(f->cost_drop_threshold) + " = 1 %)");
-  app.add_option("--patience", f->patience,
-                 "consecutive low iterations tolerated by cost-drop (default " +
-                     std::to_string(f->patience) + "; the paper also uses 20)");
-  app.add_option("--max-iterations", f->max_iterations,
-                 "hard cap on outer iterations; with --criterion fixed, the iterations run "
-                 "(default " +
-                     std::to_string(f->max_iterations) + ")");
-  app.add_option("--mse-ratio", f->mse_ratio,
-                 "mse-prev: low when MSE_t < MSE_{t-1} / this (default " + str(f->mse_ratio) + ")");
-  app.add_option("--mse-patience", f->mse_patience,
-                 "mse-prev: consecutive low iterations tolerated (default " +
-                     std::to_string(f->mse_patience) + ")");
-  app.add_option("--steps-threshold", f->steps_threshold,
-                 "successful-steps: low when LM accepted at most this many steps (default " +
-                     std::to_string(f->steps_threshold) + ")");
-  app.add_option("--error-model", f->error_model,
-                 "plane (Mahalanobis error along the target's local surface normal; default) or "
-                 "point (point-to-point, the paper's)");
-  app.add_option("--plane-epsilon", f->plane_epsilon,
-                 "plane model: in-plane weight of Omega = n n^T + epsilon I (default " +
-                     str(f->plane_epsilon) + ")");
-  app.add_option("--normal-neighbours", f->normal_neighbours,
-                 "plane model: target points per normal fit (default " +
-                     std::to_string(f->normal_neighbours) + ")");
-  app.add_flag("--source-normals", f->source_normals,
-               "plane model: also fit source normals and use each pair's mean normal");
-  app.add_option("--noise-floor", f->noise_floor,
-                 "plane model with the EM scale: the scale never shrinks below this multiple of "
-                 "the target's surface noise (median RMS out-of-plane spread of its normal fits; "
-                 "default " +
-                     str(f->noise_floor) + " = off)");
-  app.add_option("--motion-guard", f->motion_guard,
-                 "an iteration counts as settled (cost-drop criterion and EM coarse phase) only "
-                 "if it moved the source by less than this fraction of the radius, RMS (default " +
-                     str(f->motion_guard) + "; 0 = the paper's rule)");
-  app.add_option("--coarse-patience", f->coarse_patience,
-                 "EM scale: settled iterations ending the coarse phase (default " +
-                     std::to_string(f->coarse_patience) + ")");
-  app.add_option("--scale-shrink", f->scale_shrink,
-                 "EM scale: s^2 shrinks by at most this factor per outer iteration, in (0, 1] "
-                 "(default " +
-                     str(f->scale_shrink) + ")");
-  app.add_option("--neighbour-cache", f->neighbour_cache,
-                 "extra candidates kept per source point for exact incremental association "
-                 "(default " +
-                     std::to_string(f->neighbour_cache) +
-                     "; 0 = a k-d tree query per point and iteration; same result either way)");
-  app.add_option("--coarse-stride", f->coarse_stride,
-                 "EM scale: register every this-th source point during the coarse phase, every "
-                 "point after it: auto (default: " +
-                     std::to_string(ppcr::RegistrationOptions::kPlaneCoarseStride) +
-                     " with the plane model, 1 with the point model) or an integer in [1, " +
-                     std::to_string(ppcr::RegistrationOptions::kMaxCoarseStride) +
-                     "] (1 = every point throughout, the paper); lowered to keep at least " +
-                     std::to_string(ppcr::RegistrationOptions::kMinCoarsePoints) + " points");
-  app.add_option("--lm-tolerance", f->lm_tolerance,
-                 "inner LM: stop after a step lowering the cost by less than this fraction of it "
-                 "(default " +
-                     str(f->lm_tolerance) + ", the authors')");
-  app.add_option("--lm-fine-tolerance", f->lm_fine_tolerance,
-                 "EM scale: the inner LM's --lm-tolerance once the scale has left its coarse "
-                 "phase: auto (default: " +
-                     str(ppcr::LMOptions::kPlaneFineTolerance) +
-                     " with the plane model and --criterion cost-drop, at most "
-                     "--cost-drop-threshold; otherwise, or if that is not above --lm-tolerance, "
-                     "off), or a number (0 = --lm-tolerance throughout; keep it <= "
-                     "--cost-drop-threshold; docs/PERFORMANCE.md)");
-  app.add_option("--reassociate-motion", f->reassociate_motion,
-                 "re-associate only when a source point may have moved more than this fraction "
-                 "of the radius since the last association (default " +
-                     str(f->reassociate_motion) + "; 0 = every iteration, the paper)");
-  app.add_option("--source-voxel", f->source_voxel,
-                 "voxel-grid leaf for the source, cloud units (default 0 = off)");
-  app.add_option("--target-voxel", f->target_voxel,
-                 "voxel-grid leaf for the target, cloud units (default 0 = off)");
-  app.add_option("--threads", f->threads, "threads (default 1; results do not depend on it)");
+template <class T>
+CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string& help,
+                   const char* group) {
+  return app.add_option(flag, *target, help)->check(kNonEmpty)->group(group);
 }
 
-ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o) {
-  *o = ppcr::RegistrationOptions();
-  o->radius = f.radius;
-  o->max_neighbours = f.max_neighbours;
-  o->weights.dof = f.dof;
-  o->weights.model = f.gaussian ? ppcr::WeightModel::kGaussian : ppcr::WeightModel::kStudentT;
+void add_user_flags(CLI::App& app, RegistrationFlags* f) {
+  ppcr::RegistrationOptions& o = f->options;
+  value(app, "--radius", &o.radius,
+        "association radius, cloud units (default " + str(o.radius) + ")", kRegistrationGroup);
+  value(app, "--max-neighbours", &o.max_neighbours,
+        "target points associated with each source point (default " +
+            std::to_string(o.max_neighbours) + ")",
+        kRegistrationGroup);
+  value(app, "--error-model", &f->error_model,
+        "plane (the error along the target's surface normal; default) or point (the paper's)",
+        kRegistrationGroup);
+  value(app, "--dof", &o.dof, "Student-t degrees of freedom (default " + str(o.dof) + ")",
+        kRegistrationGroup);
+  value(app, "--source-voxel", &o.source_voxel,
+        "voxel-grid leaf for the source, cloud units (default 0 = off)", kRegistrationGroup);
+  value(app, "--target-voxel", &o.target_voxel,
+        "voxel-grid leaf for the target, cloud units (default 0 = off)", kRegistrationGroup);
+  value(app, "--threads", &o.num_threads, "threads (default 1; results do not depend on it)",
+        kRegistrationGroup);
+}
+
+void add_termination_flags(CLI::App& app, RegistrationFlags* f) {
+  ppcr::RegistrationOptions& o = f->options;
+  ppcr::ExpertOptions& e = o.expert;
+  value(app, "--criterion", &f->criterion,
+        "cost-drop (default), mse-prev, successful-steps, fixed, or a comma-separated "
+        "combination (stops when any fires)",
+        kTerminationGroup);
+  value(app, "--max-iterations", &o.max_iterations,
+        "cap on outer iterations; with --criterion fixed, the iterations run (default " +
+            std::to_string(o.max_iterations) + ")",
+        kTerminationGroup);
+  value(app, "--cost-drop-threshold", &e.cost_drop_threshold,
+        "cost-drop: relative drop counted as low (default " + str(e.cost_drop_threshold) + ")",
+        kTerminationGroup);
+  value(app, "--patience", &e.cost_drop_patience,
+        "cost-drop: consecutive low iterations tolerated (default " +
+            std::to_string(e.cost_drop_patience) + ")",
+        kTerminationGroup);
+  value(app, "--mse-ratio", &e.mse_ratio_threshold,
+        "mse-prev: low when MSE_t < MSE_{t-1} / this (default " + str(e.mse_ratio_threshold) + ")",
+        kTerminationGroup);
+  value(app, "--mse-patience", &e.mse_patience,
+        "mse-prev: consecutive low iterations tolerated (default " +
+            std::to_string(e.mse_patience) + ")",
+        kTerminationGroup);
+  value(app, "--steps-threshold", &e.successful_steps_threshold,
+        "successful-steps: low when LM accepted at most this many steps (default " +
+            std::to_string(e.successful_steps_threshold) + ")",
+        kTerminationGroup);
+}
+
+void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
+  ppcr::ExpertOptions& e = f->options.expert;
+  app.add_flag("--gaussian", f->gaussian, "Gaussian weights (paper eq. 2) instead of Student-t")
+      ->group(kExpertGroup);
+  value(app, "--scale", &f->scale,
+        "E-step scale: em (coarse-to-fine, default), raw (the paper's unit variance), or a "
+        "fixed value in cloud units",
+        kExpertGroup);
+  value(app, "--coarse-scale", &e.scale, "em: the coarse scale, cloud units (0 = radius / 2)",
+        kExpertGroup);
+  value(app, "--min-scale", &e.em_min_scale, "em: floor on the scale, cloud units (0 = none)",
+        kExpertGroup);
+  value(app, "--coarse-patience", &e.em_coarse_patience,
+        "em: settled iterations ending the coarse phase (default " +
+            std::to_string(e.em_coarse_patience) + ")",
+        kExpertGroup);
+  value(app, "--scale-shrink", &e.em_min_shrink,
+        "em: s^2 shrinks by at most this factor per iteration (default " +
+            str(e.em_min_shrink) + ")",
+        kExpertGroup);
+  value(app, "--plane-epsilon", &e.plane_epsilon,
+        "plane: in-plane weight of Omega = n n^T + epsilon I (default " + str(e.plane_epsilon) +
+            ")",
+        kExpertGroup);
+  value(app, "--normal-neighbours", &e.normal_neighbours,
+        "plane: points per normal fit (default " + std::to_string(e.normal_neighbours) + ")",
+        kExpertGroup);
+  app.add_flag("--source-normals,!--no-source-normals", e.source_normals,
+               std::string("plane: pairs use the mean of both clouds' normals (default ") +
+                   (e.source_normals ? "on" : "off") + ")")
+      ->group(kExpertGroup);
+  value(app, "--noise-floor", &e.noise_floor,
+        "plane + em: floor the scale at this multiple of the target's surface noise (default " +
+            str(e.noise_floor) + "; 0 = off)",
+        kExpertGroup);
+  value(app, "--motion-guard", &e.cost_drop_max_motion,
+        "cost-drop: a low iteration must move the source by less than this fraction of the "
+        "radius, RMS (default " +
+            str(e.cost_drop_max_motion) + "; 0 = the paper's rule)",
+        kExpertGroup);
+  value(app, "--neighbour-cache", &e.neighbour_cache,
+        "extra candidates cached per source point (default " +
+            std::to_string(e.neighbour_cache) + "; 0 = none; same result either way)",
+        kExpertGroup);
+  value(app, "--coarse-stride", &f->coarse_stride,
+        "em: register every n-th source point in the coarse phase: auto (2 with the plane "
+        "model, 1 with the point model) or an integer in [1, 64]",
+        kExpertGroup);
+  value(app, "--lm-tolerance", &e.lm_function_tolerance,
+        "inner LM: stop after a step lowering the cost by less than this fraction (default " +
+            str(e.lm_function_tolerance) + ")",
+        kExpertGroup);
+  value(app, "--lm-fine-tolerance", &f->lm_fine_tolerance,
+        "em: --lm-tolerance of the fine phase: auto (1e-2, at most --cost-drop-threshold, with "
+        "the plane model and cost-drop alone) or a number (0 = --lm-tolerance throughout)",
+        kExpertGroup);
+}
+
+// The word flags into *o.
+ppcr::Status read_words(const RegistrationFlags& f, ppcr::RegistrationOptions* o) {
+  ppcr::ExpertOptions& e = o->expert;
+  e.weight_model = f.gaussian ? ppcr::WeightModel::kGaussian : ppcr::WeightModel::kStudentT;
   if (f.scale == "em") {
-    o->weights.scale_mode = ppcr::ScaleMode::kEM;
-    o->weights.scale = f.coarse_scale;
-    o->weights.em_min_scale = f.min_scale;
+    e.scale_mode = ppcr::ScaleMode::kEM;
   } else if (f.scale == "raw") {
-    o->weights.scale_mode = ppcr::ScaleMode::kRaw;
+    e.scale_mode = ppcr::ScaleMode::kRaw;
   } else {
     double s = 0.0;
     if (!(parse_finite(f.scale, &s) && s > 0.0)) {
       return bad("--scale", f.scale, "expected em, raw or a positive number");
     }
-    o->weights.scale_mode = ppcr::ScaleMode::kFixed;
-    o->weights.scale = s;
+    e.scale_mode = ppcr::ScaleMode::kFixed;
+    e.scale = s;
   }
-  if (!(std::isfinite(f.coarse_scale) && f.coarse_scale >= 0.0)) {
-    return bad("--coarse-scale", str(f.coarse_scale), "expected a number >= 0");
-  }
-  if (!(std::isfinite(f.min_scale) && f.min_scale >= 0.0)) {
-    return bad("--min-scale", str(f.min_scale), "expected a number >= 0");
-  }
-  if (f.min_scale > 0.0 && f.scale != "em") {
-    return bad("--min-scale", str(f.min_scale), "needs --scale em, got --scale " + f.scale);
-  }
-
-  std::uint32_t criteria = 0;
+  o->criteria = 0;
   std::stringstream list(f.criterion);
   std::string name;
+  static const std::pair<const char*, ppcr::Criterion> kCriteria[] = {
+      {"cost-drop", ppcr::kCriterionCostDrop},
+      {"mse-prev", ppcr::kCriterionMsePrev},
+      {"successful-steps", ppcr::kCriterionSuccessfulSteps},
+      {"fixed", ppcr::kCriterionFixed}};
   while (std::getline(list, name, ',')) {
-    if (name == "cost-drop") {
-      criteria |= ppcr::kCriterionCostDrop;
-    } else if (name == "mse-prev") {
-      criteria |= ppcr::kCriterionMsePrev;
-    } else if (name == "successful-steps") {
-      criteria |= ppcr::kCriterionSuccessfulSteps;
-    } else if (name == "fixed") {
-      criteria |= ppcr::kCriterionFixed;
-    } else {
+    bool known = false;
+    for (const auto& [word, bit] : kCriteria) {
+      if (name == word) o->criteria |= bit, known = true;
+    }
+    if (!known) {
       return bad("--criterion", f.criterion,
                  "unknown criterion '" + name +
                      "' (expected cost-drop, mse-prev, successful-steps or fixed)");
     }
   }
-  if (criteria == 0) return bad("--criterion", "''", "expected at least one criterion");
-  ppcr::TerminationCriteria& c = o->termination;
-  c.criteria = criteria;
-  c.cost_drop_threshold = f.cost_drop_threshold;
-  c.cost_drop_patience = f.patience;
-  c.max_iterations = f.max_iterations;
-  c.fixed_iterations = f.max_iterations;
-  c.mse_ratio_threshold = f.mse_ratio;
-  c.mse_patience = f.mse_patience;
-  c.successful_steps_threshold = f.steps_threshold;
+  e.fixed_iterations = o->max_iterations;
   if (f.error_model == "point") {
     o->error_model = ppcr::ErrorModel::kPoint;
-  } else if (f.error_model == "plane") {
-    o->error_model = ppcr::ErrorModel::kPlane;
-  } else {
+  } else if (f.error_model != "plane") {
     return bad("--error-model", f.error_model, "expected point or plane");
   }
-  o->plane.epsilon = f.plane_epsilon;
-  o->plane.normal_neighbours = f.normal_neighbours;
-  if (f.source_normals && o->error_model != ppcr::ErrorModel::kPlane) {
-    return bad("--source-normals", "set", "needs --error-model plane, got " + f.error_model);
-  }
-  o->plane.source_normals = f.source_normals;
-  if (!(std::isfinite(f.noise_floor) && f.noise_floor >= 0.0)) {
-    return bad("--noise-floor", str(f.noise_floor), "expected a number >= 0");
-  }
-  if (f.noise_floor > 0.0 && o->error_model != ppcr::ErrorModel::kPlane) {
-    return bad("--noise-floor", str(f.noise_floor),
-               "needs --error-model plane, got " + f.error_model);
-  }
-  if (f.noise_floor > 0.0 && f.scale != "em") {
-    return bad("--noise-floor", str(f.noise_floor), "needs --scale em, got --scale " + f.scale);
-  }
-  o->plane.noise_floor = f.noise_floor;
-  if (!(std::isfinite(f.motion_guard) && f.motion_guard >= 0.0)) {
-    return bad("--motion-guard", str(f.motion_guard), "expected a number >= 0");
-  }
-  c.cost_drop_max_motion = f.motion_guard;
-  o->weights.em_coarse_max_motion = f.motion_guard;
-  if (f.coarse_patience < 0) {
-    return bad("--coarse-patience", std::to_string(f.coarse_patience), "expected >= 0");
-  }
-  o->weights.em_coarse_patience = f.coarse_patience;
-  if (!(f.scale_shrink > 0.0 && f.scale_shrink <= 1.0)) {
-    return bad("--scale-shrink", str(f.scale_shrink), "expected a number in (0, 1]");
-  }
-  o->weights.em_min_shrink = f.scale_shrink;
-  if (!(std::isfinite(f.reassociate_motion) && f.reassociate_motion >= 0.0)) {
-    return bad("--reassociate-motion", str(f.reassociate_motion), "expected a number >= 0");
-  }
-  o->reassociate_motion = f.reassociate_motion;
-  if (f.neighbour_cache < 0) {
-    return bad("--neighbour-cache", std::to_string(f.neighbour_cache), "expected >= 0");
-  }
-  o->neighbour_cache = f.neighbour_cache;
-  if (f.coarse_stride == "auto") {
-    o->coarse_stride = ppcr::RegistrationOptions::kAutomatic;
-  } else {
-    const int max_stride = ppcr::RegistrationOptions::kMaxCoarseStride;
+  if (f.coarse_stride != "auto") {
     double v = 0.0;
-    if (!(parse_finite(f.coarse_stride, &v) && v >= 1.0 && v <= max_stride && v == std::floor(v))) {
-      return bad("--coarse-stride", f.coarse_stride,
-                 "expected auto or an integer in [1, " + std::to_string(max_stride) + "]");
+    if (!(parse_finite(f.coarse_stride, &v) && v >= 1.0 && v <= 64.0 && v == std::floor(v))) {
+      return bad("--coarse-stride", f.coarse_stride, "expected auto or an integer in [1, 64]");
     }
-    if (v > 1.0 && f.scale != "em") {
-      return bad("--coarse-stride", f.coarse_stride, "needs --scale em, got --scale " + f.scale);
-    }
-    o->coarse_stride = static_cast<int>(v);
+    e.coarse_stride = static_cast<int>(v);
   }
-  if (!(std::isfinite(f.lm_tolerance) && f.lm_tolerance >= 0.0)) {
-    return bad("--lm-tolerance", str(f.lm_tolerance), "expected a number >= 0");
-  }
-  o->lm.function_tolerance = f.lm_tolerance;
-  if (f.lm_fine_tolerance == "auto") {
-    o->lm.fine_function_tolerance = ppcr::LMOptions::kAutomatic;
-  } else {
+  if (f.lm_fine_tolerance != "auto") {
     double v = 0.0;
     if (!(parse_finite(f.lm_fine_tolerance, &v) && v >= 0.0)) {
       return bad("--lm-fine-tolerance", f.lm_fine_tolerance, "expected auto or a number >= 0");
     }
-    if (v > 0.0 && f.scale != "em") {
-      return bad("--lm-fine-tolerance", f.lm_fine_tolerance,
-                 "needs --scale em, got --scale " + f.scale);
-    }
-    o->lm.fine_function_tolerance = v;
-  }
-  o->source_voxel = f.source_voxel;
-  o->target_voxel = f.target_voxel;
-  o->num_threads = f.threads;
-
-  // The core's validation, re-worded with the flag names.
-  const ppcr::Status s = ppcr::validate(*o);
-  if (!s.ok()) {
-    if (!(std::isfinite(f.radius) && f.radius > 0.0)) {
-      return bad("--radius", str(f.radius), "expected a number > 0");
-    }
-    if (f.max_neighbours < 1 || f.max_neighbours > 1024) {
-      return bad("--max-neighbours", std::to_string(f.max_neighbours), "expected 1..1024");
-    }
-    if (!f.gaussian && !(std::isfinite(f.dof) && f.dof > 0.0)) {
-      return bad("--dof", str(f.dof), "expected a number > 0");
-    }
-    if (f.max_iterations < 1) {
-      return bad("--max-iterations", std::to_string(f.max_iterations), "expected >= 1");
-    }
-    if (f.patience < 0) return bad("--patience", std::to_string(f.patience), "expected >= 0");
-    if (f.mse_patience < 0) {
-      return bad("--mse-patience", std::to_string(f.mse_patience), "expected >= 0");
-    }
-    if (!(std::isfinite(f.mse_ratio) && f.mse_ratio > 0.0)) {
-      return bad("--mse-ratio", str(f.mse_ratio), "expected a number > 0");
-    }
-    if (!std::isfinite(f.cost_drop_threshold)) {
-      return bad("--cost-drop-threshold", str(f.cost_drop_threshold), "expected a number");
-    }
-    if (!(std::isfinite(f.source_voxel) && f.source_voxel >= 0.0)) {
-      return bad("--source-voxel", str(f.source_voxel), "expected a number >= 0");
-    }
-    if (!(std::isfinite(f.target_voxel) && f.target_voxel >= 0.0)) {
-      return bad("--target-voxel", str(f.target_voxel), "expected a number >= 0");
-    }
-    if (f.normal_neighbours < 5 || f.normal_neighbours > 64) {
-      return bad("--normal-neighbours", std::to_string(f.normal_neighbours), "expected 5..64");
-    }
-    if (!(f.plane_epsilon > 0.0 && f.plane_epsilon <= 1.0)) {
-      return bad("--plane-epsilon", str(f.plane_epsilon), "expected a number in (0, 1]");
-    }
-    if (f.threads < 1 || f.threads > 1024) {
-      return bad("--threads", std::to_string(f.threads), "expected 1..1024");
-    }
-    return s;
+    e.lm_fine_function_tolerance = v;
   }
   return ppcr::Status::Ok();
+}
+
+// Settings that only act with another one: refused rather than ignored.
+ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::RegistrationOptions& o) {
+  const ppcr::ExpertOptions& e = o.expert;
+  const bool plane = o.error_model == ppcr::ErrorModel::kPlane;
+  const bool em = e.scale_mode == ppcr::ScaleMode::kEM;
+  if (e.source_normals && !plane) {
+    return bad("--source-normals", "set", "needs --error-model plane, got " + f.error_model);
+  }
+  if (e.noise_floor > 0.0 && !plane) {
+    return bad("--noise-floor", str(e.noise_floor), "needs --error-model plane, got " + f.error_model);
+  }
+  const std::pair<bool, std::pair<const char*, std::string>> needs_em[] = {
+      {e.noise_floor > 0.0, {"--noise-floor", str(e.noise_floor)}},
+      {e.em_min_scale > 0.0, {"--min-scale", str(e.em_min_scale)}},
+      {e.coarse_stride > 1, {"--coarse-stride", f.coarse_stride}},
+      {e.lm_fine_function_tolerance > 0.0, {"--lm-fine-tolerance", f.lm_fine_tolerance}}};
+  for (const auto& [set, flag] : needs_em) {
+    if (set && !em) return bad(flag.first, flag.second, "needs --scale em, got --scale " + f.scale);
+  }
+  return ppcr::Status::Ok();
+}
+
+// The core's message names the option's field; say the flag instead.
+ppcr::Status with_flag_names(const ppcr::Status& s) {
+  static const std::pair<const char*, const char*> kFields[] = {
+      {"expert.scale (fixed scale)", "--scale"}, {"expert.scale", "--coarse-scale"},
+      {"expert.em_coarse_patience", "--coarse-patience"},
+      {"expert.em_min_shrink", "--scale-shrink"}, {"expert.em_min_scale", "--min-scale"},
+      {"expert.normal_neighbours", "--normal-neighbours"},
+      {"expert.plane_epsilon", "--plane-epsilon"}, {"expert.noise_floor", "--noise-floor"},
+      {"expert.fixed_iterations", "--max-iterations"},
+      {"expert.cost_drop_threshold", "--cost-drop-threshold"},
+      {"expert.cost_drop_patience", "--patience"},
+      {"expert.cost_drop_max_motion", "--motion-guard"},
+      {"expert.mse_ratio_threshold", "--mse-ratio"}, {"expert.mse_patience", "--mse-patience"},
+      {"expert.successful_steps_threshold", "--steps-threshold"},
+      {"expert.lm_function_tolerance", "--lm-tolerance"},
+      {"expert.neighbour_cache", "--neighbour-cache"}, {"radius", "--radius"},
+      {"max_neighbours", "--max-neighbours"}, {"dof", "--dof"},
+      {"source_voxel", "--source-voxel"}, {"target_voxel", "--target-voxel"},
+      {"max_iterations", "--max-iterations"}, {"num_threads", "--threads"}};
+  const std::string& message = s.message();
+  for (const auto& [field, flag] : kFields) {
+    const std::string prefix = std::string(field) + " must be ";
+    if (message.rfind(prefix, 0) == 0) {
+      return ppcr::Status(s.code(), std::string(flag) + ": " + message.substr(std::string(field).size() + 1));
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
+  add_user_flags(app, f);
+  add_termination_flags(app, f);
+  add_expert_flags(app, f);
+}
+
+ppcr::Status to_options(const RegistrationFlags& f, ppcr::RegistrationOptions* o) {
+  *o = f.options;
+  ppcr::Status s = read_words(f, o);
+  if (s.ok()) s = check_combinations(f, *o);
+  if (s.ok()) s = with_flag_names(ppcr::validate(*o));
+  return s;
 }
 
 }  // namespace ppcr_tools

@@ -4,7 +4,8 @@
 #include <cstdio>
 #include <fstream>
 
-#include "ppcr/lm.hpp"
+#include <cerrno>
+#include <cstring>
 
 namespace ppcr_tools {
 
@@ -19,7 +20,7 @@ nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M) {
 }
 
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double time_ms,
-                                   const GroundTruthErrors* gt) {
+                                   const ppcr::PoseErrors* gt) {
   nlohmann::ordered_json j;
   j["transform"] = matrix_json(r.T_target_source.matrix());
   j["status"] = ppcr::to_string(r.status.code());
@@ -50,33 +51,38 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
 }
 
 ppcr::Status write_trace_csv(const std::string& path,
-                             const std::vector<ppcr::IterationRecord>& history) {
+                             const std::vector<ppcr::IterationRecord>& history,
+                             const ppcr::PointCloud& source, const Eigen::Isometry3d* T_gt) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) {
-    return ppcr::Status(ppcr::StatusCode::kIoError, path + ": cannot open for writing");
+    return ppcr::Status(ppcr::StatusCode::kIoError,
+                        path + ": cannot open for writing: " + std::strerror(errno));
   }
   std::fprintf(f,
-               "iteration,successful_steps,unsuccessful_steps,initial_cost,final_cost,cost_drop,"
-               "mse_prev,mse_ground_truth,benchmark_error,scale,correspondences,"
-               "matched_source_points,tx,ty,tz,qx,qy,qz,qw,lists_reused,time_ms\n");
+               "iteration,phase,successful_steps,unsuccessful_steps,initial_cost,final_cost,"
+               "cost_drop,mse_prev,mse_ground_truth,benchmark_error,scale,correspondences,"
+               "matched_source_points,tx,ty,tz,qx,qy,qz,qw,time_ms\n");
   for (const ppcr::IterationRecord& h : history) {
     const Eigen::Quaterniond q(h.T_target_source.linear());
     const Eigen::Vector3d t = h.T_target_source.translation();
     char gt[96] = ",";
-    if (h.mse_ground_truth >= 0.0) {
-      std::snprintf(gt, sizeof(gt), "%.17g,%.17g", h.mse_ground_truth, h.benchmark_error);
+    if (T_gt != nullptr) {
+      const ppcr::PoseErrors e = ppcr::evaluate(source, h.T_target_source, *T_gt);
+      std::snprintf(gt, sizeof(gt), "%.17g,%.17g", e.mse, e.benchmark_error);
     }
     std::fprintf(f,
-                 "%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%zu,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g,%d,%.6f\n",
-                 h.iteration, h.successful_steps, h.unsuccessful_steps, h.initial_cost,
-                 h.final_cost, h.cost_drop, h.mse_prev, gt, h.scale, h.correspondences,
-                 h.matched_source_points, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
-                 h.lists_reused ? 1 : 0, h.time_ms);
+                 "%d,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%zu,%zu,%.17g,%.17g,%.17g,%.17g,"
+                 "%.17g,%.17g,%.17g,%.6f\n",
+                 h.iteration, h.coarse ? "coarse" : "fine", h.successful_steps,
+                 h.unsuccessful_steps, h.initial_cost, h.final_cost, h.cost_drop, h.mse_prev, gt,
+                 h.scale, h.correspondences, h.matched_source_points, t.x(), t.y(), t.z(), q.x(),
+                 q.y(), q.z(), q.w(), h.time_ms);
   }
   const bool ok = std::ferror(f) == 0;
+  const int write_errno = errno;
   if (std::fclose(f) != 0 || !ok) {
-    return ppcr::Status(ppcr::StatusCode::kIoError, path + ": write failed");
+    return ppcr::Status(ppcr::StatusCode::kIoError,
+                        path + ": write failed: " + std::strerror(ok ? errno : write_errno));
   }
   return ppcr::Status::Ok();
 }

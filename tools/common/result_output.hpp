@@ -7,32 +7,27 @@
 #include <string>
 #include <vector>
 
+#include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/status.hpp"
 
 namespace ppcr_tools {
-
-/// Errors w.r.t. a ground truth (computed by the tool on the full-resolution source).
-struct GroundTruthErrors {
-  double rotation_error_deg = 0.0;
-  double translation_error = 0.0;
-  double benchmark_error = 0.0;
-};
 
 /// Row-major nested arrays, 4x4.
 nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M);
 
 /// The result object of ppcr_cli --json (keys documented in README).
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& result, double time_ms,
-                                   const GroundTruthErrors* gt);
+                                   const ppcr::PoseErrors* gt);
 
-/// One CSV row per outer iteration: iteration, successful_steps, unsuccessful_steps,
-/// initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth, benchmark_error, scale,
-/// correspondences, matched_source_points, tx, ty, tz, qx, qy, qz, qw, lists_reused (1: the
-/// iteration reused the last neighbour lists, 0: it associated afresh), time_ms (last, so that
-/// traces compare with it cut off). Columns without a ground truth are empty.
+/// One CSV row per outer iteration: iteration, phase (coarse or fine), successful_steps,
+/// unsuccessful_steps, initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth,
+/// benchmark_error, scale, correspondences, matched_source_points, tx, ty, tz, qx, qy, qz, qw,
+/// time_ms (last, so that traces compare with it cut off). The ground-truth columns are
+/// evaluated here on `source` (the registered cloud) when T_gt is given, else empty.
 ppcr::Status write_trace_csv(const std::string& path,
-                             const std::vector<ppcr::IterationRecord>& history);
+                             const std::vector<ppcr::IterationRecord>& history,
+                             const ppcr::PointCloud& source, const Eigen::Isometry3d* T_gt);
 
 /// Four lines of four numbers (17 significant digits).
 std::string matrix_text(const Eigen::Matrix4d& M);

@@ -1,0 +1,92 @@
+// result.hpp - what a registration returns: the pose, why it stopped, and its trace.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <vector>
+
+#include "ppcr/abi.hpp"
+#include "ppcr/status.hpp"
+
+namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
+
+enum class StopReason {
+  kNone,               // not stopped (still running)
+  kFixedIterations,    // kCriterionFixed fired
+  kCostDrop,           // kCriterionCostDrop fired
+  kMsePrev,            // kCriterionMsePrev fired
+  kSuccessfulSteps,    // kCriterionSuccessfulSteps fired
+  kMaxIterations,      // the hard cap was reached before any criterion fired
+  kZeroCost,           // an inner problem started with zero cost: every association exact
+  kNoCorrespondences,  // an outer iteration found no source point with a neighbour in the radius
+  kNumericalFailure,   // the LM solve failed (non-finite values)
+  kInvalidInput,       // registration refused its input (see RegistrationResult::status)
+  kCancelled,          // RegistrationOptions::on_iteration returned false
+};
+
+const char* to_string(StopReason reason);
+
+/// True for the reasons that mean "a termination criterion decided" (fixed, cost drop, MSE,
+/// successful steps, zero cost); false for the hard cap, failures and refused input.
+bool is_criterion_stop(StopReason reason);
+
+/// One row of the per-iteration trace.
+struct IterationRecord {
+  int iteration = 0;           // 1-based
+  bool coarse = false;         // the EM scale's coarse phase (a subsampled source, a wide scale)
+  int successful_steps = 0;    // LM accepted steps
+  int unsuccessful_steps = 0;  // LM rejected steps
+  double initial_cost = 0.0;   // inner problem's cost before / after LM
+  double final_cost = 0.0;
+  double cost_drop = 0.0;  // (initial - final) / initial (paper eq. 7); NaN when initial is 0
+  double mse_prev = 0.0;   // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5), cloud units^2
+  double scale = 0.0;      // s used by the E-step, cloud units
+  // Associated (source, target) pairs and source points with at least one neighbour (of the
+  // subsampled source in the coarse phase).
+  std::size_t correspondences = 0;
+  std::size_t matched_source_points = 0;
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
+  double time_ms = 0.0;  // wall time of this outer iteration
+};
+
+struct RegistrationResult {
+  Status status;  // not ok: input refused or a failure (see stop_reason)
+  StopReason stop_reason = StopReason::kNone;
+  /// Maps source into target. Refused input: the initial guess (identity if it is not finite).
+  Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();
+  int iterations = 0;             // outer iterations run
+  int lm_iterations = 0;          // LM steps over all outer iterations (accepted + rejected)
+  int lm_successful_steps = 0;    // accepted LM steps over all outer iterations
+  double initial_cost = 0.0;      // first inner problem's initial cost
+  double final_cost = 0.0;        // last inner problem's final cost
+  double scale = 0.0;             // final E-step scale s (cloud units)
+  std::size_t source_points = 0;  // source points registered (after filtering)
+  std::size_t target_points = 0;  // target points (after filtering)
+  // Source points with a neighbour and associated pairs in the last iteration.
+  std::size_t matched_source_points = 0;
+  std::size_t correspondences = 0;
+  // Points dropped as non-finite, or so far from the cloud's median that their squared distance
+  // overflows (|p - median| > ~1e154).
+  std::size_t source_non_finite = 0;
+  std::size_t target_non_finite = 0;
+  /// Plane model: the target's surface noise, cloud units: the median RMS distance of a normal
+  /// fit's points from their plane (sensor noise and roughness); 0 for the point model.
+  double target_surface_noise = 0.0;
+  /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
+  /// left about the target's per-axis median point, in the target's axes.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues of
+  /// the surface-normal information, rotations scaled by the source's RMS radius, below 1e-2 of
+  /// the largest): 3 for a plane, 2 for a cylinder, 3 for a sphere, 0 for well-constrained
+  /// geometry. Point model: -1 (not assessed).
+  int degenerate_directions = -1;
+  std::vector<IterationRecord> history;
+
+  /// True when a termination criterion stopped the loop (not the cap, not a failure).
+  bool converged() const { return status.ok() && is_criterion_stop(stop_reason); }
+};
+
+}  // namespace PPCR_ABI_NAMESPACE
+}  // namespace ppcr

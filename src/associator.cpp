@@ -1,0 +1,76 @@
+// associator.cpp - see associator.hpp.
+#include "associator.hpp"
+
+#include "pair_normals.hpp"
+
+namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
+namespace detail {
+
+void Associator::set_target(const KdTree* tree, const PointCloud* target,
+                            const std::vector<PlanePoint>* plane_points) {
+  tree_ = tree;
+  target_ = target;
+  plane_points_ = plane_points;
+}
+
+void Associator::prepare(const Settings& settings, const PointCloud& source,
+                         const std::vector<Eigen::Vector3d>* source_normals) {
+  settings_ = settings;
+  source_ = &source;
+  source_normals_ = source_normals;
+  const std::size_t n = source.size();
+  const int k = settings.k;
+  const int capacity = k + settings.cache_extra;
+  use_cache_ = settings.cache_extra > 0 && capacity <= NeighbourCache::kMaxCapacity;
+  // Sized for every point first, so that the coarse level's rows grow back without allocating.
+  table_.resize(n, k);
+  if (use_cache_) cache_.resize(n, capacity);  // also forgets the previous source's lists
+  if (source_normals_ != nullptr) pair_normals_.resize(table_.index.size());
+  const std::size_t stride = settings.coarse_stride;
+  use_coarse_ = stride > 1;
+  coarse_associated_ = false;
+  if (!use_coarse_) return;
+  const std::size_t n_coarse = (n + stride - 1) / stride;
+  coarse_points_.resize(n_coarse);
+  if (source_normals_ != nullptr) coarse_normals_.resize(n_coarse);
+  for (std::size_t i = 0; i < n_coarse; ++i) {
+    coarse_points_[i] = source[i * stride];
+    if (source_normals_ != nullptr) coarse_normals_[i] = (*source_normals_)[i * stride];
+  }
+  table_.resize(n_coarse, k);
+  if (use_cache_) cache_.resize(n_coarse, capacity);
+}
+
+void Associator::find(bool coarse, const Eigen::Isometry3d& T) {
+  coarse = coarse && use_coarse_;
+  associate(coarse, T);
+  if (coarse && table_.pairs == 0) {
+    use_coarse_ = false;
+    associate(false, T);
+  }
+}
+
+void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
+  const PointCloud& cloud = coarse ? coarse_points_ : *source_;
+  // From the coarse level to every point: the rows grow, the coarse points keeping theirs.
+  const bool spread = coarse_associated_ && !coarse;
+  if (use_cache_) {
+    if (spread) spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_);
+    associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.num_threads, &cache_,
+                     &table_);
+  } else {
+    if (spread) table_.resize(source_->size(), settings_.k);
+    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius,
+                      settings_.num_threads, &table_);
+  }
+  coarse_associated_ = coarse;
+  if (source_normals_ != nullptr) {
+    compute_pair_normals(table_, *plane_points_, coarse ? coarse_normals_ : *source_normals_,
+                         T.linear(), settings_.num_threads, &pair_normals_);
+  }
+}
+
+}  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
+}  // namespace ppcr

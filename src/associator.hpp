@@ -1,0 +1,90 @@
+// associator.hpp - the association step of the outer loop (paper Sec. 3.1): for each source
+// point moved by the current pose, up to k target points within the radius.
+//
+// Behind this one interface live two speed measures, each exact (the table equals a fresh k-d
+// tree query of every point; tests/core/test_associator.cpp checks both against the plain path):
+//  - a neighbour cache (neighbour_cache.hpp): candidate lists that prove most points' answers
+//    without a query;
+//  - a coarse level: while the EM scale is coarse, only every stride-th source point (in Z-order,
+//    so spread over the whole cloud) is associated; the first fine association spreads the
+//    coarse level's lists over every point.
+// With the plane model and source normals it also freezes each pair's normal (pair_normals.hpp)
+// at the association's rotation.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <vector>
+
+#include "association.hpp"
+#include "kdtree.hpp"
+#include "neighbour_cache.hpp"
+#include "normal_equations.hpp"
+#include "ppcr/abi.hpp"
+#include "ppcr/types.hpp"
+
+namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
+namespace detail {
+
+class Associator {
+ public:
+  struct Settings {
+    int k = 10;                     // neighbours per source point
+    double radius = 1.0;            // cloud units
+    int cache_extra = 0;            // extra cached candidates per point (0 = no cache)
+    std::size_t coarse_stride = 1;  // 1 = no coarse level
+    int num_threads = 1;
+  };
+
+  /// The target side, kept by pointer until the next call. plane_points may be null (point
+  /// model); it is needed only with source normals.
+  void set_target(const KdTree* tree, const PointCloud* target,
+                  const std::vector<PlanePoint>* plane_points);
+
+  /// Set-up for one source (allocates; reuses buffers of an equal-size source). source_normals:
+  /// one per source point, or null for no pair normals.
+  void prepare(const Settings& settings, const PointCloud& source,
+               const std::vector<Eigen::Vector3d>* source_normals);
+
+  /// Associates at T (internal frame): the coarse level while `coarse` and it exists, else every
+  /// point. A coarse level that finds no pair is dropped for the rest of the run (its points may
+  /// miss a small overlap that others reach) and every point is associated instead.
+  /// Allocation-free.
+  void find(bool coarse, const Eigen::Isometry3d& T);
+
+  bool has_coarse_level() const { return use_coarse_; }
+  /// The table holds the coarse level's rows.
+  bool coarse() const { return coarse_associated_; }
+  /// The source points the table's rows refer to.
+  const PointCloud& points() const { return coarse_associated_ ? coarse_points_ : *source_; }
+  const AssociationTable& table() const { return table_; }
+  /// Per association slot, the pair's normal; null without source normals.
+  const std::vector<Eigen::Vector3d>* pair_normals() const {
+    return source_normals_ != nullptr ? &pair_normals_ : nullptr;
+  }
+
+ private:
+  void associate(bool coarse, const Eigen::Isometry3d& T);
+
+  const KdTree* tree_ = nullptr;
+  const PointCloud* target_ = nullptr;
+  const std::vector<PlanePoint>* plane_points_ = nullptr;
+  const PointCloud* source_ = nullptr;
+  const std::vector<Eigen::Vector3d>* source_normals_ = nullptr;
+  Settings settings_;
+  bool use_cache_ = false;
+  bool use_coarse_ = false;
+  bool coarse_associated_ = false;
+  // The coarse level: every stride-th source point and its normal. It uses the first rows of the
+  // table and the cache, which grow within their capacity at the switch (spread_lists).
+  PointCloud coarse_points_;
+  std::vector<Eigen::Vector3d> coarse_normals_;
+  AssociationTable table_;
+  NeighbourCache cache_;
+  std::vector<Eigen::Vector3d> pair_normals_;
+};
+
+}  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
+}  // namespace ppcr

@@ -1,0 +1,101 @@
+// cloud_preparation.cpp - see cloud_preparation.hpp.
+#include "cloud_preparation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "format.hpp"
+#include "ppcr/voxel.hpp"
+
+namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
+namespace detail {
+namespace {
+
+Status too_few(const char* name, std::size_t kept, std::size_t input, std::size_t dropped,
+               double voxel) {
+  return Status(StatusCode::kEmptyCloud,
+                std::string(name) + " has " + std::to_string(kept) + " usable point(s) (of " +
+                    std::to_string(input) + ", " + std::to_string(dropped) +
+                    " non-finite or too far from the others for a finite squared distance" +
+                    (voxel > 0.0 ? ", after a voxel filter of " + num(voxel) : std::string()) +
+                    "); at least 3 are needed");
+}
+
+// Per-axis median of the cloud, O(n) (nth_element).
+Eigen::Vector3d median_origin(const PointCloud& cloud, std::vector<double>* scratch) {
+  Eigen::Vector3d origin;
+  std::vector<double>& values = *scratch;
+  values.resize(cloud.size());
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(cloud.size() / 2);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::size_t i = 0; i < cloud.size(); ++i) values[i] = cloud[i][axis];
+    std::nth_element(values.begin(), mid, values.end());
+    origin[axis] = *mid;
+  }
+  return origin;
+}
+
+// Shifts out->points by their median into out->centered, dropping points whose squared distance
+// from the origin overflows (no squared distance to them is finite).
+void center(PreparedCloud* out) {
+  out->origin = median_origin(out->points, &out->scratch);
+  out->centered.resize(out->points.size());
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < out->points.size(); ++i) {
+    const Eigen::Vector3d c = out->points[i] - out->origin;
+    if (!std::isfinite(c.squaredNorm())) continue;
+    out->points[kept] = out->points[i];
+    out->centered[kept] = c;
+    ++kept;
+  }
+  out->dropped += out->points.size() - kept;
+  out->points.resize(kept);
+  out->centered.resize(kept);
+}
+
+// A 2 m scene 1e14 m from the coordinate origin has steps of 2 cm: refused. A cloud whose points
+// all round to one value is accepted (a cloud of identical points).
+Status check_resolution(const char* name, const PreparedCloud& cloud) {
+  double extent = 0.0;
+  for (const Eigen::Vector3d& c : cloud.centered) extent = std::max(extent, c.cwiseAbs().maxCoeff());
+  const double distance = cloud.origin.cwiseAbs().maxCoeff();
+  const double resolution = distance * std::numeric_limits<double>::epsilon();
+  if (extent > 0.0 && resolution > 1e-3 * extent) {
+    return Status(StatusCode::kInvalidArgument,
+                  std::string(name) + " lies ~" + num(distance) +
+                      " from the coordinate origin, where doubles resolve only " + num(resolution) +
+                      ", more than a thousandth of its extent " + num(extent) +
+                      ": shift both clouds nearer the origin");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status prepare_cloud(const PointCloud& in, double voxel, const char* name, PreparedCloud* out) {
+  out->points.clear();
+  out->points.reserve(in.size());
+  for (const Eigen::Vector3d& p : in) {
+    if (p.allFinite()) out->points.push_back(p);
+  }
+  out->dropped = in.size() - out->points.size();
+  if (voxel > 0.0 && !out->points.empty()) {
+    PointCloud filtered;
+    Status s = voxel_downsample(out->points, voxel, &filtered);
+    if (!s.ok()) return Status(s.code(), std::string(name) + ": " + s.message());
+    out->points = std::move(filtered);
+  }
+  if (out->points.size() < 3) return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  center(out);
+  Status s = check_resolution(name, *out);
+  if (!s.ok()) return s;
+  if (out->points.size() < 3) return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  return Status::Ok();
+}
+
+}  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
+}  // namespace ppcr
