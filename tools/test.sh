@@ -5,6 +5,9 @@
 #   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz, fma)
 #   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
 #                                                      nanoflann (downloads it; not a default)
+# Every test runs in the release stage, the real-scan ones included. The sanitize and fma stages
+# run every test that needs no real data (the real-scan cases exercise the same code on bigger
+# clouds, already run once); the fuzz stage runs each fuzzer for a bounded time.
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -13,32 +16,34 @@ cd "$root"
 jobs=${PPCR_JOBS:-2}
 stages=${PPCR_TEST_STAGES:-release sanitize fuzz fma}
 
-# build_and_test DIR BUILD_TYPE [cmake arguments...]: configures the tests and tools in DIR,
-# builds them and runs every test.
+# build_and_test DIR BUILD_TYPE CTEST_ARGS [cmake arguments...]: configures the tests and tools
+# in DIR, builds them and runs the tests ctest selects with CTEST_ARGS (a string).
 build_and_test() {
-  local dir=$1 build_type=$2
-  shift 2
+  local dir=$1 build_type=$2 ctest_args=$3
+  shift 3
   cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$build_type" -DPPCR_BUILD_TESTS=ON \
     -DPPCR_BUILD_TOOLS=ON "$@"
   cmake --build "$dir" -j "$jobs"
-  ctest --test-dir "$dir" --output-on-failure -j "$jobs"
+  # shellcheck disable=SC2086
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" $ctest_args
 }
 
 for stage in $stages; do
+  start=$SECONDS
   case $stage in
     release)
       echo "== release: build and run all tests"
-      build_and_test build/test-release Release -DPPCR_BUILD_BENCHMARKS=ON
+      build_and_test build/test-release Release "" -DPPCR_BUILD_BENCHMARKS=ON
       ;;
     sanitize)
-      echo "== sanitize: all tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+      echo "== sanitize: the tests without real data under AddressSanitizer + UndefinedBehaviorSanitizer"
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-        build_and_test build/test-asan RelWithDebInfo -DPPCR_SANITIZE=ON
+        build_and_test build/test-asan RelWithDebInfo "-LE real_data" -DPPCR_SANITIZE=ON
       ;;
     fuzz)
-      echo "== fuzz: bounded libFuzzer runs (clang, ASan + UBSan), ${PPCR_FUZZ_SECONDS:-60} s per target"
+      echo "== fuzz: bounded libFuzzer runs (clang, ASan + UBSan), ${PPCR_FUZZ_SECONDS:-30} s per target"
       rm -rf build/test-fuzz/fuzz/artifacts
-      fuzz/run_fuzzers.sh "${PPCR_FUZZ_SECONDS:-60}" "$root/build/test-fuzz"
+      fuzz/run_fuzzers.sh "${PPCR_FUZZ_SECONDS:-30}" "$root/build/test-fuzz"
       if [[ -n $(find build/test-fuzz/fuzz/artifacts -type f 2>/dev/null) ]]; then
         echo "fuzz: crash inputs found:" >&2
         find build/test-fuzz/fuzz/artifacts -type f >&2
@@ -54,8 +59,8 @@ for stage in $stages; do
         grep -qw "$flag" /proc/cpuinfo 2>/dev/null || missing="$missing $flag"
       done
       if [[ -z $missing ]]; then
-        echo "== fma: build with -march=haswell and run all tests"
-        build_and_test build/test-fma Release -DCMAKE_CXX_FLAGS=-march=haswell
+        echo "== fma: build with -march=haswell and run the tests without real data"
+        build_and_test build/test-fma Release "-LE real_data" -DCMAKE_CXX_FLAGS=-march=haswell
       else
         echo "== fma: skipped, not an x86-64 CPU with Haswell's extensions (missing:$missing)"
       fi
@@ -75,7 +80,7 @@ for stage in $stages; do
       # Makefiles, here and in the consumer projects ctest builds: their per-object dependency
       # files tell which nanoflann.hpp was compiled in.
       export CMAKE_GENERATOR="Unix Makefiles"
-      build_and_test build/test-nanoflann-next Release -Dnanoflann_DIR="$config"
+      build_and_test build/test-nanoflann-next Release "" -Dnanoflann_DIR="$config"
       # After ctest, which also builds the consumer projects (tests/consumer).
       if ! grep -qF "$header" build/test-nanoflann-next/CMakeFiles/ppcr.dir/src/kdtree.cpp.o.d ||
          grep -rlE --include='*.d' '(^|[[:space:]])/usr/include/nanoflann\.hpp' \
@@ -89,5 +94,6 @@ for stage in $stages; do
       exit 2
       ;;
   esac
+  echo "== $stage: $((SECONDS - start)) s"
 done
 echo "== all test stages passed: $stages"
