@@ -66,6 +66,16 @@ double inverse_sq(double scale_sq) {
   return std::min(1.0 / scale_sq, std::numeric_limits<double>::max());
 }
 
+// A refused input returns the initial guess, or the identity if the guess is not finite.
+RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
+                           RegistrationResult result) {
+  result.status = s;
+  result.stop_reason = StopReason::kInvalidInput;
+  result.T_target_source =
+      T_initial.matrix().allFinite() ? T_initial : Eigen::Isometry3d::Identity();
+  return result;
+}
+
 }  // namespace
 
 struct Registration::Impl {
@@ -86,12 +96,17 @@ struct Registration::Impl {
   detail::Associator associator;
   detail::LMSolver lm;
 
+  struct Run;
+  Status check_input(const Eigen::Isometry3d& T_initial) const;
   Status prepare_source(const PointCloud& cloud, RegistrationResult* result);
   detail::LMProblem problem(double step_reference, double source_extent) const;
+  Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
+  LMSummary solve(Run* run, bool coarse, Eigen::Isometry3d* T);
+  Status no_pairs(const Eigen::Isometry3d& T_initial, const Frame& frame) const;
   IterationRecord record(int t, bool coarse, double scale_sq, const LMSummary& lm,
                          const TerminationMonitor& monitor, const Eigen::Isometry3d& T,
                          Clock::time_point start) const;
-  void summarise(const Eigen::Isometry3d& T, const CloudMoments& moments,
+  void summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                  RegistrationResult* result) const;
 };
 
@@ -132,6 +147,17 @@ Status Registration::set_target(const PointCloud& target) {
   return Status::Ok();
 }
 
+Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const {
+  if (!options_status.ok()) return options_status;
+  if (!has_target) {
+    return Status(StatusCode::kEmptyCloud, "no target: call set_target() first (or it failed)");
+  }
+  if (!T_initial.matrix().allFinite()) {
+    return Status(StatusCode::kInvalidArgument, "the initial guess has non-finite entries");
+  }
+  return Status::Ok();
+}
+
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
@@ -164,118 +190,123 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
   return p;
 }
 
+// Everything one align() needs beside the clouds, set up before the loop.
+struct Registration::Impl::Run {
+  Frame frame;
+  double reference_length;  // the radius, or the source's extent if smaller
+  CloudMoments moments;     // of the source, for the MSE w.r.t. the previous pose
+  TerminationMonitor monitor;
+  detail::ScaleSchedule scale;
+  detail::LMProblem problem;
+  LMOptions coarse_lm;
+  double fine_tolerance;      // the inner LM's tolerance in the EM fine phase (0: none)
+  double previous_tolerance;  // the last solve's
+};
+
+// Sizes and configures every unit for the prepared source. Lengths are relative to the radius
+// unless it exceeds the source's extent (a radius of 1e6 m on a 2 m cloud means "no radius", not
+// "steps of 0.1 m are negligible").
+Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_initial,
+                                                  RegistrationResult* result) {
+  const RegistrationOptions& o = options;
+  result->T_target_source = T_initial;  // until an iteration moves it
+  double extent_sq = 0.0;
+  for (const Eigen::Vector3d& c : source.centered) extent_sq = std::max(extent_sq, c.squaredNorm());
+  const double source_extent = std::sqrt(extent_sq);
+  const double reference_length = std::min(o.radius, source_extent);
+  const std::size_t n = source.points.size();
+  const bool pair_normals = o.error_model == ErrorModel::kPlane && o.expert.source_normals;
+  const detail::Associator::Settings settings{o.max_neighbours, o.radius,
+                                              o.expert.neighbour_cache,
+                                              detail::coarse_stride(o, n), o.num_threads};
+  associator.prepare(settings, source.centered, pair_normals ? &source_normals : nullptr);
+  plane.pair_normals = associator.pair_normals();
+  lm.resize(n, o.max_neighbours);
+  if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
+  const CloudMoments moments = compute_moments(source.points);
+  const LMOptions coarse_lm = detail::lm_options(o);
+  return Run{Frame(target.origin, source.origin),
+             reference_length,
+             moments,
+             TerminationMonitor(detail::termination_criteria(o), moments, T_initial),
+             detail::ScaleSchedule(detail::schedule_options(o, target_surface_noise),
+                                   reference_length),
+             problem(reference_length, source_extent),
+             coarse_lm,
+             detail::fine_function_tolerance(o),
+             coarse_lm.function_tolerance};
+}
+
+// The inner problem of one outer iteration (Sec. 3.1): E-step weights at the scale s (eq. 3-4)
+// and LM on SE(3), the weights refreshed at every accepted step. After a change of tolerance (the
+// EM fine phase's looser one) the first step is evaluated, so the cost drop the criterion reads
+// is measured, never the 0 of a solve that ended on an unevaluated step.
+LMSummary Registration::Impl::solve(Run* run, bool coarse, Eigen::Isometry3d* T) {
+  run->problem.source = &associator.points();
+  run->problem.weights.inv_scale_sq = inverse_sq(run->scale.scale_sq());
+  LMOptions lm_options = run->coarse_lm;
+  if (run->fine_tolerance > 0.0 && !coarse) lm_options.function_tolerance = run->fine_tolerance;
+  lm_options.evaluate_first_step = lm_options.function_tolerance != run->previous_tolerance;
+  run->previous_tolerance = lm_options.function_tolerance;
+  return lm.solve(lm_options, run->problem, T);
+}
+
+Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial, const Frame& frame) const {
+  return Status(StatusCode::kNoCorrespondences,
+                "no source point has a target point within radius " + num(options.radius) +
+                    "; source (moved by the initial guess) spans " +
+                    extent(source.points, T_initial) + ", target spans " +
+                    extent(target.centered, frame.to_target));
+}
+
 RegistrationResult Registration::align(const PointCloud& source,
                                        const Eigen::Isometry3d& T_initial) {
   Impl& m = *impl_;
-  const RegistrationOptions& o = m.options;
   RegistrationResult result;
-  // A refused input returns the initial guess, or the identity if the guess is not finite.
-  if (T_initial.matrix().allFinite()) result.T_target_source = T_initial;
-  Status s = m.options_status;
-  if (s.ok() && !m.has_target) {
-    s = Status(StatusCode::kEmptyCloud, "no target: call set_target() first (or it failed)");
-  }
-  if (s.ok() && !T_initial.matrix().allFinite()) {
-    s = Status(StatusCode::kInvalidArgument, "the initial guess has non-finite entries");
-  }
+  Status s = m.check_input(T_initial);
   if (s.ok()) s = m.prepare_source(source, &result);
-  if (!s.ok()) {
-    result.status = s;
-    result.stop_reason = StopReason::kInvalidInput;
-    return result;
-  }
-
-  // Set-up: lengths relative to the radius, unless the radius exceeds the source's extent (a
-  // radius of 1e6 m on a 2 m cloud means "no radius", not "steps of 0.1 m are negligible").
-  double extent_sq = 0.0;
-  for (const Eigen::Vector3d& c : m.source.centered) extent_sq = std::max(extent_sq, c.squaredNorm());
-  const double source_extent = std::sqrt(extent_sq);
-  const double reference_length = std::min(o.radius, source_extent);
-  const std::size_t n = m.source.points.size();
-  const bool pair_normals = o.error_model == ErrorModel::kPlane && o.expert.source_normals;
-  detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
-                                        detail::coarse_stride(o, n), o.num_threads};
-  m.associator.prepare(settings, m.source.centered, pair_normals ? &m.source_normals : nullptr);
-  m.plane.pair_normals = m.associator.pair_normals();
-  m.lm.resize(n, o.max_neighbours);
-  const CloudMoments moments = compute_moments(m.source.points);
-  TerminationMonitor monitor(detail::termination_criteria(o), moments, T_initial);
-  detail::ScaleSchedule scale(detail::schedule_options(o, m.target_surface_noise), reference_length);
-  detail::LMProblem problem = m.problem(reference_length, source_extent);
-  const LMOptions coarse_lm = detail::lm_options(o);
-  const double fine_tolerance = detail::fine_function_tolerance(o);
-  double previous_tolerance = coarse_lm.function_tolerance;
-  if (o.record_history) result.history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
-  const Frame frame(m.target.origin, m.source.origin);
-  Eigen::Isometry3d T = frame.internal(T_initial);
-
+  if (!s.ok()) return refused(s, T_initial, std::move(result));
+  Impl::Run run = m.start(T_initial, &result);
+  Eigen::Isometry3d T = run.frame.internal(T_initial);
   StopReason reason = StopReason::kNone;
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
-    const bool coarse = scale.coarse();
+    const bool coarse = run.scale.coarse();
     m.associator.find(coarse, T);  // Sec. 3.1: up to k target points within the radius
     const detail::AssociationTable& pairs = m.associator.table();
     result.matched_source_points = pairs.matched;
     result.correspondences = pairs.pairs;
     if (pairs.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
-      if (t == 1) {
-        result.status = Status(StatusCode::kNoCorrespondences,
-                               "no source point has a target point within radius " +
-                                   num(o.radius) + "; source (moved by the initial guess) spans " +
-                                   extent(m.source.points, T_initial) + ", target spans " +
-                                   extent(m.target.centered, frame.to_target));
-      }
+      if (t == 1) result.status = m.no_pairs(T_initial, run.frame);
       break;
     }
-    // The inner problem: E-step weights at scale s (eq. 3-4) and LM on SE(3), weights refreshed
-    // at every accepted step. After a change of tolerance the first step is evaluated, so the
-    // cost drop the criterion reads is measured, never the 0 of an unevaluated step.
-    problem.source = &m.associator.points();
-    problem.weights.inv_scale_sq = inverse_sq(scale.scale_sq());
-    LMOptions lm_options = coarse_lm;
-    if (fine_tolerance > 0.0 && !coarse) lm_options.function_tolerance = fine_tolerance;
-    lm_options.evaluate_first_step = lm_options.function_tolerance != previous_tolerance;
-    previous_tolerance = lm_options.function_tolerance;
-    const double scale_sq = scale.scale_sq();
-    const LMSummary lm = m.lm.solve(lm_options, problem, &T);
+    const LMSummary lm = m.solve(&run, coarse, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;
     if (t == 1) result.initial_cost = lm.initial_cost;
     result.final_cost = lm.final_cost;
-    result.T_target_source = frame.external(T);
+    result.T_target_source = run.frame.external(T);
     result.iterations = t;
-
     // The criterion (Sec. 3.2), then the EM scale's M-step at the final pose:
     // s^2 = sum w r / (3 N) = 2 final_cost / (3 N).
-    IterationReport report;
-    report.iteration = t;
-    report.lm = lm;
-    report.T_target_source = result.T_target_source;
-    report.scale_settling = scale.settling();
-    report.motion_reference = reference_length;
+    const double scale_sq = run.scale.scale_sq();
     reason = lm.termination == LMTermination::kNumericalFailure
                  ? StopReason::kNumericalFailure
-                 : monitor.update(report);
-    scale.update(monitor.last_cost_drop(), std::sqrt(monitor.last_mse_prev()),
-                 2.0 * lm.final_cost / (3.0 * static_cast<double>(pairs.matched)));
-    if (o.record_history || o.on_iteration) {
-      const IterationRecord r = m.record(t, coarse, scale_sq, lm, monitor, result.T_target_source,
-                                         start);
-      if (o.on_iteration && !o.on_iteration(r) && reason == StopReason::kNone) {
+                 : run.monitor.update(IterationReport{t, lm, result.T_target_source,
+                                                      run.reference_length, run.scale.settling()});
+    run.scale.update(run.monitor.last_cost_drop(), std::sqrt(run.monitor.last_mse_prev()),
+                     2.0 * lm.final_cost / (3.0 * static_cast<double>(pairs.matched)));
+    if (m.options.record_history || m.options.on_iteration) {
+      const IterationRecord r =
+          m.record(t, coarse, scale_sq, lm, run.monitor, result.T_target_source, start);
+      if (m.options.on_iteration && !m.options.on_iteration(r) && reason == StopReason::kNone) {
         reason = StopReason::kCancelled;
       }
-      if (o.record_history) result.history.push_back(r);
+      if (m.options.record_history) result.history.push_back(r);
     }
   }
-  if (reason == StopReason::kNumericalFailure) {
-    result.status = Status(StatusCode::kNumericalFailure,
-                           "non-finite cost or step in outer iteration " +
-                               std::to_string(result.iterations));
-  }
-  result.stop_reason = reason;
-  result.scale = std::sqrt(scale.scale_sq());
-  m.summarise(T, moments, &result);
+  m.summarise(reason, T, run, &result);
   return result;
 }
 
@@ -304,13 +335,20 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
 // The information at the final pose and, with the plane model, the directions the target's
 // surfaces leave free (judged on the target's normals also with source normals: the null
 // directions are the surfaces', whatever normal the pairs use).
-void Registration::Impl::summarise(const Eigen::Isometry3d& T, const CloudMoments& moments,
+void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                                    RegistrationResult* result) const {
+  if (reason == StopReason::kNumericalFailure) {
+    result->status = Status(StatusCode::kNumericalFailure,
+                            "non-finite cost or step in outer iteration " +
+                                std::to_string(result->iterations));
+  }
+  result->stop_reason = reason;
+  result->scale = std::sqrt(run.scale.scale_sq());
   result->information = lm.last().H;
   if (options.error_model != ErrorModel::kPlane || result->iterations == 0) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
       associator.points(), associator.table(), T, lm.weights().data(), target_plane_points);
-  const double rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
+  const double rms = std::sqrt(std::max(run.moments.covariance.trace(), 1e-300));
   result->degenerate_directions = detail::degenerate_directions(H_normal, rms);
 }
 
@@ -318,13 +356,7 @@ RegistrationResult align(const PointCloud& source, const PointCloud& target,
                          const RegistrationOptions& options, const Eigen::Isometry3d& T_initial) {
   Registration registration(options);
   Status s = registration.set_target(target);
-  if (!s.ok()) {
-    RegistrationResult result;
-    result.status = s;
-    result.stop_reason = StopReason::kInvalidInput;
-    if (T_initial.matrix().allFinite()) result.T_target_source = T_initial;
-    return result;
-  }
+  if (!s.ok()) return refused(s, T_initial, RegistrationResult());
   return registration.align(source, T_initial);
 }
 
