@@ -103,7 +103,7 @@ struct Registration::Impl {
   Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
   LMSummary solve(Run* run, bool coarse, Eigen::Isometry3d* T);
   Status no_pairs(const Eigen::Isometry3d& T_initial, const Frame& frame) const;
-  IterationRecord record(int t, bool coarse, double scale_sq, const LMSummary& lm,
+  IterationRecord record(int t, bool coarse, double scale_sq, const LMSummary& summary,
                          const TerminationMonitor& monitor, const Eigen::Isometry3d& T,
                          Clock::time_point start) const;
   void summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
@@ -311,17 +311,17 @@ RegistrationResult Registration::align(const PointCloud& source,
 }
 
 IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
-                                           const LMSummary& lm,
+                                           const LMSummary& summary,
                                            const TerminationMonitor& monitor,
                                            const Eigen::Isometry3d& T_target_source,
                                            Clock::time_point start) const {
   IterationRecord r;
   r.iteration = t;
   r.coarse = coarse;
-  r.successful_steps = lm.successful_steps;
-  r.unsuccessful_steps = lm.unsuccessful_steps;
-  r.initial_cost = lm.initial_cost;
-  r.final_cost = lm.final_cost;
+  r.successful_steps = summary.successful_steps;
+  r.unsuccessful_steps = summary.unsuccessful_steps;
+  r.initial_cost = summary.initial_cost;
+  r.final_cost = summary.final_cost;
   r.cost_drop = monitor.last_cost_drop();
   r.mse_prev = monitor.last_mse_prev();
   r.scale = std::sqrt(scale_sq);

@@ -1266,3 +1266,28 @@ TEST_CASE("on_iteration sees every record and can cancel", "[registration]") {
   CHECK(cut.history.empty());
   CHECK(cut.T_target_source.matrix() == all.history[2].T_target_source.matrix());
 }
+
+TEST_CASE("after the change to the fine phase's tolerance the inner LM evaluates a step",
+          "[registration]") {
+  // With the plane model the EM fine phase loosens the inner tolerance (1e-2). A solve may end on
+  // a step predicted to lower the cost by less than that, taken unevaluated, whose drop then
+  // reads 0. The first solve after the change evaluates at least one step, so the drop the
+  // criterion reads there is a measured one (a drop of 0 could stop a pose still far from the
+  // fine problem's optimum).
+  for (std::uint64_t seed : {100u, 101u, 102u, 103u}) {
+    const Scene sc = make_scene(3000, 20000, false, seed);
+    RegistrationOptions o = scene_options();
+    o.expert.lm_fine_function_tolerance = 1e-2;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    INFO("seed " << seed << ": " << describe(r));
+    REQUIRE(r.status.ok());
+    std::size_t first_fine = 0;
+    while (first_fine < r.history.size() && r.history[first_fine].coarse) ++first_fine;
+    REQUIRE(first_fine > 0);
+    REQUIRE(first_fine < r.history.size());
+    const ppcr::IterationRecord& h = r.history[first_fine];
+    CHECK(h.successful_steps + h.unsuccessful_steps >= 1);
+    CHECK(h.final_cost < h.initial_cost);  // evaluated: the cost before the step is not reported
+    CHECK(h.cost_drop > 0.0);
+  }
+}
