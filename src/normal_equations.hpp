@@ -3,7 +3,7 @@
 //
 // With the twist delta = (omega, v) applied on the left (se3.hpp), the error of pair (j, k) is
 // e_kj = y_k - p_j, p_j = T x_j, and its Jacobian  J_j = [ [p_j]_x | -I ]  is the same for every
-// neighbour k of source point j (ALGORITHM.md). So, with W_j = sum_k w_kj and
+// neighbour k of source point j. So, with W_j = sum_k w_kj and
 // ebar_j = sum_k w_kj e_kj = sum_k w_kj y_k - W_j p_j,
 //   H = sum_j W_j J_j^T J_j,   g = sum_j J_j^T ebar_j,   cost = 1/2 sum_kj w_kj |e_kj|^2.
 // Expanding J_j^T J_j = [ |p|^2 I - p p^T , [p]_x ; -[p]_x , I ] shows H depends on the source

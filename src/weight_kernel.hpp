@@ -65,8 +65,8 @@ struct PowerFour {
 /// of square roots) for the set bits of the fraction. Half-integers (any integer dof) need one
 /// root; dof a multiple of 0.25 (e.g. 1.25, 1.5) at most three, instead of std::pow.
 struct PowerDyadic {
-  // Two lanes pay for the roots (measured at dof 1.25: docs/PERFORMANCE.md, update e4bacba); an
-  // integer e (odd dof) gains on the E-step's division only, not measured.
+  // Two lanes pay for the roots at dof 1.25 (docs/PERFORMANCE.md, BM_EStep); an integer e (odd
+  // dof) gains on the E-step's division only.
   static constexpr bool kTwoLanes = true;
   int whole;    // floor(e)
   int eighths;  // (e - floor(e)) * 8, in [0, 8)

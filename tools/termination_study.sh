@@ -78,8 +78,8 @@ manifest=$out/manifest.tsv
 : > "$out/commands.txt"
 
 # ------------------------------------------------------------------ the variants
-# Protocol settings (the project's issues), and one inner tolerance for every criterion: since
-# commit 03512d7 the plane model's fine phase stops its inner solves at 1e-2 by default with the
+# Protocol settings (the project's issues), and one inner tolerance for every criterion: the
+# plane model's fine phase stops its inner solves at 1e-2 by default with the
 # cost-drop criterion alone (--lm-fine-tolerance auto), and at 1e-5 with the others (fixed
 # included); the study compares the criteria on the same solves, those of the authors' 1e-5
 # (docs/TERMINATION.md has the defaults' figures with auto).
