@@ -1,11 +1,16 @@
 // ppcr_cli - register SOURCE onto TARGET with Probabilistic Point Clouds Registration.
 //
 // Prints the 4x4 transform mapping SOURCE into TARGET's frame (or one JSON object with --json).
-// Exit 0 on success; 1 with a one-line error on stderr for bad input or a failed registration;
-// 2 for bad command-line usage.
+// Exit 0 on success; 1 with a one-line error on stderr for bad input, a failed registration or
+// an output (stdout included) that could not be written; 2 for bad command-line usage.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <iostream>
 #include <string>
 
 #include "common/registration_flags.hpp"
@@ -22,135 +27,214 @@ int fail(const std::string& message) {
   return 1;
 }
 
-}  // namespace
+struct Arguments {
+  std::string source_path, target_path, initial_path, gt_path;
+  std::string out_transform, out_cloud, trace;
+  bool json = false, verbose = false, quiet = false;
+  ppcr_tools::RegistrationFlags flags;
+};
 
-int main(int argc, char** argv) {
+const char* kOutputGroup = "Input and output";
+
+void add_arguments(CLI::App& app, Arguments* a) {
+  app.add_option("SOURCE", a->source_path, "cloud to move (PLY, PCD, XYZ/CSV)")->required();
+  app.add_option("TARGET", a->target_path, "reference cloud")->required();
+  ppcr_tools::add_registration_flags(app, &a->flags);
+  app.add_option("--initial", a->initial_path, "initial guess: a 4x4 rigid transform (text file)")
+      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+  app.add_option("--ground-truth", a->gt_path,
+                 "true 4x4 transform mapping SOURCE into TARGET's frame: adds rotation, "
+                 "translation and benchmark errors to the result")
+      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+  app.add_option("--output-transform", a->out_transform, "write the 4x4 result to this file")
+      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+  app.add_option("--output-cloud", a->out_cloud,
+                 "write the aligned full-resolution source (format by extension)")
+      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+  app.add_option("--trace", a->trace, "write one CSV row per outer iteration")
+      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+  app.add_flag("--json", a->json, "print one JSON object to stdout instead of the matrix")
+      ->group(kOutputGroup);
+  app.add_flag("--verbose", a->verbose, "per-iteration progress on stderr")->group(kOutputGroup);
+  app.add_flag("--quiet", a->quiet, "nothing on stderr but errors")->group(kOutputGroup);
+}
+
+// stdout could not take what was printed (a full disk, a closed pipe).
+bool stdout_failed() {
+  std::cout.flush();
+  return std::fflush(stdout) != 0 || std::ferror(stdout) != 0 || !std::cout;
+}
+
+// Parses argv; returns -1 to go on, or the exit status (help, version, usage error).
+int parse(int argc, char** argv, Arguments* a) {
   CLI::App app{
       "Registers SOURCE onto TARGET with Probabilistic Point Clouds Registration (PPCR) and prints "
       "the 4x4 transform mapping SOURCE into TARGET's frame. Clouds: PLY, PCD, XYZ/CSV.",
       "ppcr_cli"};
   app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING + " (OpenMP " +
                                         PPCR_WITH_OPENMP_STR + ")");
-  std::string source_path, target_path, initial_path, gt_path, out_transform, out_cloud, trace;
-  bool json = false, verbose = false, quiet = false;
-  ppcr_tools::RegistrationFlags flags;
-  app.add_option("SOURCE", source_path, "cloud to move (PLY, PCD, XYZ/CSV)")->required();
-  app.add_option("TARGET", target_path, "reference cloud")->required();
-  ppcr_tools::add_registration_flags(app, &flags);
-  app.add_option("--initial", initial_path, "initial guess: a 4x4 rigid transform (text file)");
-  app.add_option("--ground-truth", gt_path,
-                 "true 4x4 transform mapping SOURCE into TARGET's frame: adds rotation, "
-                 "translation and benchmark errors to the result");
-  app.add_option("--output-transform", out_transform, "write the 4x4 result to this file");
-  app.add_option("--output-cloud", out_cloud,
-                 "write the aligned full-resolution source (format by extension)");
-  app.add_option("--trace", trace, "write one CSV row per outer iteration");
-  app.add_flag("--json", json, "print one JSON object to stdout instead of the matrix");
-  app.add_flag("--verbose", verbose, "per-iteration progress on stderr");
-  app.add_flag("--quiet", quiet, "nothing on stderr but errors");
+  add_arguments(app, a);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? fail(std::string("stdout: ") + std::strerror(errno)) : code;
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? fail(std::string("stdout: ") + std::strerror(errno)) : code;
   } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    const int code = app.exit(e);
+    return stdout_failed() ? fail(std::string("stdout: ") + std::strerror(errno)) : code;
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "ppcr_cli: error: %s (see --help)\n", e.what());
     return 2;
   }
-  if (quiet) verbose = false;
+  if (a->quiet) a->verbose = false;
+  return -1;
+}
 
+// Every output path, before the registration runs: not empty, and creatable or writable.
+ppcr::Status check_outputs(const Arguments& a) {
+  const std::pair<const char*, const std::string*> outputs[] = {
+      {"--output-transform", &a.out_transform},
+      {"--output-cloud", &a.out_cloud},
+      {"--trace", &a.trace}};
+  for (const auto& [flag, path] : outputs) {
+    if (path->empty()) continue;
+    const bool existed = access(path->c_str(), F_OK) == 0;
+    std::FILE* f = std::fopen(path->c_str(), "a");
+    if (f == nullptr) {
+      return ppcr::Status(ppcr::StatusCode::kIoError, std::string(flag) + " " + *path +
+                                                          ": cannot write: " +
+                                                          std::strerror(errno));
+    }
+    std::fclose(f);
+    if (!existed) std::remove(path->c_str());
+  }
+  return ppcr::Status::Ok();
+}
+
+struct Inputs {
+  ppcr::PointCloud source, target;
+  ppcr::io::ReadReport source_report, target_report;
+  Eigen::Isometry3d T_initial = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_gt = Eigen::Isometry3d::Identity();
+  bool has_gt = false;
+};
+
+ppcr::Status read_inputs(const Arguments& a, Inputs* in) {
+  ppcr::Status s = ppcr::io::read_cloud(a.source_path, &in->source, &in->source_report);
+  if (s.ok()) s = ppcr::io::read_cloud(a.target_path, &in->target, &in->target_report);
+  if (!s.ok()) return s;
+  if (!a.initial_path.empty()) {
+    s = ppcr::io::read_transform(a.initial_path, &in->T_initial);
+    if (!s.ok()) return ppcr::Status(s.code(), "--initial: " + s.message());
+  }
+  in->has_gt = !a.gt_path.empty();
+  if (in->has_gt) {
+    s = ppcr::io::read_transform(a.gt_path, &in->T_gt);
+    if (!s.ok()) return ppcr::Status(s.code(), "--ground-truth: " + s.message());
+  }
+  if (!a.quiet) {
+    for (const auto* r : {&in->source_report, &in->target_report}) {
+      if (r->non_finite_dropped == 0) continue;
+      std::fprintf(stderr, "ppcr_cli: %s: dropped %zu non-finite point(s) of %zu\n",
+                   r == &in->source_report ? a.source_path.c_str() : a.target_path.c_str(),
+                   r->non_finite_dropped, r->points_in_file);
+    }
+  }
+  return ppcr::Status::Ok();
+}
+
+void print_iteration(const ppcr::IterationRecord& r) {
+  std::fprintf(stderr,
+               "iter %3d  %-6s  steps %2d/%-2d  cost %.6g -> %.6g  drop %+.3e  scale %.4g  "
+               "pairs %zu  %.1f ms\n",
+               r.iteration, r.coarse ? "coarse" : "fine", r.successful_steps, r.unsuccessful_steps,
+               r.initial_cost, r.final_cost, r.cost_drop, r.scale, r.correspondences, r.time_ms);
+}
+
+ppcr::Status write_outputs(const Arguments& a, const Inputs& in,
+                           const ppcr::RegistrationResult& result) {
+  ppcr::Status s;
+  if (!a.trace.empty()) {
+    s = ppcr_tools::write_trace_csv(a.trace, result.history, in.source,
+                                    in.has_gt ? &in.T_gt : nullptr);
+    if (!s.ok()) return s;
+  }
+  if (!a.out_transform.empty()) {
+    s = ppcr::io::write_transform(a.out_transform, result.T_target_source);
+    if (!s.ok()) return s;
+  }
+  if (!a.out_cloud.empty()) {
+    ppcr::PointCloud aligned(in.source.size());
+    for (std::size_t i = 0; i < in.source.size(); ++i) {
+      aligned[i] = result.T_target_source * in.source[i];
+    }
+    s = ppcr::io::write_cloud(a.out_cloud, aligned);
+  }
+  return s;
+}
+
+void print_summary(const ppcr::RegistrationResult& result, double time_ms,
+                   const ppcr::PoseErrors* gt) {
+  std::fprintf(stderr,
+               "ppcr_cli: %s after %d iterations (%s), %.1f ms, %zu/%zu source points matched",
+               result.converged() ? "converged" : "stopped", result.iterations,
+               ppcr::to_string(result.stop_reason), time_ms, result.matched_source_points,
+               result.source_points);
+  if (gt != nullptr) {
+    std::fprintf(stderr, "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
+                 gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);
+  }
+  std::fprintf(stderr, "\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments a;
+  const int parsed = parse(argc, argv, &a);
+  if (parsed >= 0) return parsed;
   ppcr::RegistrationOptions options;
-  ppcr::Status s = ppcr_tools::to_options(flags, &options);
+  ppcr::Status s = ppcr_tools::to_options(a.flags, &options);
   if (!s.ok()) {
     std::fprintf(stderr, "ppcr_cli: error: %s\n", s.message().c_str());
     return 2;
   }
-
-  ppcr::PointCloud source, target;
-  ppcr::io::ReadReport source_report, target_report;
-  s = ppcr::io::read_cloud(source_path, &source, &source_report);
+  s = check_outputs(a);
   if (!s.ok()) return fail(s.message());
-  s = ppcr::io::read_cloud(target_path, &target, &target_report);
+  Inputs in;
+  s = read_inputs(a, &in);
   if (!s.ok()) return fail(s.message());
-  if (!quiet) {
-    for (const auto* r : {&source_report, &target_report}) {
-      if (r->non_finite_dropped > 0) {
-        std::fprintf(stderr, "ppcr_cli: %s: dropped %zu non-finite point(s) of %zu\n",
-                     r == &source_report ? source_path.c_str() : target_path.c_str(),
-                     r->non_finite_dropped, r->points_in_file);
-      }
-    }
-  }
-  Eigen::Isometry3d T_initial = Eigen::Isometry3d::Identity(), T_gt;
-  if (!initial_path.empty()) {
-    s = ppcr::io::read_transform(initial_path, &T_initial);
-    if (!s.ok()) return fail("--initial: " + s.message());
-  }
-  const bool has_gt = !gt_path.empty();
-  if (has_gt) {
-    s = ppcr::io::read_transform(gt_path, &T_gt);
-    if (!s.ok()) return fail("--ground-truth: " + s.message());
-  }
-  if (verbose) {
-    std::fprintf(stderr, "ppcr_cli: source %zu points, target %zu points\n", source.size(),
-                 target.size());
+  if (a.verbose) {
+    std::fprintf(stderr, "ppcr_cli: source %zu points, target %zu points\n", in.source.size(),
+                 in.target.size());
     options.on_iteration = [](const ppcr::IterationRecord& r) {
-      std::fprintf(stderr,
-                   "iter %3d  %-6s  steps %2d/%-2d  cost %.6g -> %.6g  drop %+.3e  scale %.4g  "
-                   "pairs %zu  %.1f ms\n",
-                   r.iteration, r.coarse ? "coarse" : "fine", r.successful_steps,
-                   r.unsuccessful_steps, r.initial_cost, r.final_cost, r.cost_drop, r.scale,
-                   r.correspondences, r.time_ms);
+      print_iteration(r);
       return true;
     };
   }
-  options.record_history = !trace.empty();
+  options.record_history = !a.trace.empty();
 
   const auto start = std::chrono::steady_clock::now();
-  const ppcr::RegistrationResult result =
-      ppcr::align(source, target, options, T_initial);
+  ppcr::RegistrationResult result = ppcr::align(in.source, in.target, options, in.T_initial);
   const double time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-
+  // The points the readers dropped count with those the registration dropped.
+  result.source_non_finite += in.source_report.non_finite_dropped;
+  result.target_non_finite += in.target_report.non_finite_dropped;
   ppcr::PoseErrors gt;
-  if (has_gt) gt = ppcr::evaluate(source, result.T_target_source, T_gt);
-  if (json) {
+  if (in.has_gt) gt = ppcr::evaluate(in.source, result.T_target_source, in.T_gt);
+  if (a.json) {
     std::printf("%s\n",
-                ppcr_tools::result_json(result, time_ms, has_gt ? &gt : nullptr).dump(2).c_str());
+                ppcr_tools::result_json(result, time_ms, in.has_gt ? &gt : nullptr).dump(2).c_str());
   }
   if (!result.status.ok()) return fail(result.status.message());
-
-  if (!trace.empty()) {
-    s = ppcr_tools::write_trace_csv(trace, result.history, source, has_gt ? &T_gt : nullptr);
-    if (!s.ok()) return fail(s.message());
-  }
-  if (!out_transform.empty()) {
-    s = ppcr::io::write_transform(out_transform, result.T_target_source);
-    if (!s.ok()) return fail(s.message());
-  }
-  if (!out_cloud.empty()) {
-    ppcr::PointCloud aligned(source.size());
-    for (std::size_t i = 0; i < source.size(); ++i) aligned[i] = result.T_target_source * source[i];
-    s = ppcr::io::write_cloud(out_cloud, aligned);
-    if (!s.ok()) return fail(s.message());
-  }
-  if (!json) std::printf("%s", ppcr_tools::matrix_text(result.T_target_source.matrix()).c_str());
-  if (!quiet) {
-    std::fprintf(stderr,
-                 "ppcr_cli: %s after %d iterations (%s), %.1f ms, %zu/%zu source points "
-                 "matched",
-                 result.converged() ? "converged" : "stopped", result.iterations,
-                 ppcr::to_string(result.stop_reason), time_ms, result.matched_source_points,
-                 result.source_points);
-    if (has_gt) {
-      std::fprintf(stderr,
-                   "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
-                   gt.rotation_error_deg, gt.translation_error, gt.benchmark_error);
-    }
-    std::fprintf(stderr, "\n");
-  }
+  s = write_outputs(a, in, result);
+  if (!s.ok()) return fail(s.message());
+  if (!a.json) std::printf("%s", ppcr_tools::matrix_text(result.T_target_source.matrix()).c_str());
+  if (stdout_failed()) return fail(std::string("stdout: write failed: ") + std::strerror(errno));
+  if (!a.quiet) print_summary(result, time_ms, in.has_gt ? &gt : nullptr);
   return 0;
 }

@@ -29,16 +29,11 @@ bool parse_finite(const std::string& text, double* v) {
   return !text.empty() && *end == '\0' && errno == 0 && std::isfinite(*v);
 }
 
-const CLI::Validator kNonEmpty(
-    [](std::string& value) -> std::string {
-      return value.empty() ? std::string("an empty value is not a value") : std::string();
-    },
-    "", "non-empty");
 
 template <class T>
 CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string& help,
                    const char* group) {
-  return app.add_option(flag, *target, help)->check(kNonEmpty)->group(group);
+  return app.add_option(flag, *target, help)->check(non_empty())->group(group);
 }
 
 void add_user_flags(CLI::App& app, RegistrationFlags* f) {
@@ -261,6 +256,15 @@ ppcr::Status with_flag_names(const ppcr::Status& s) {
 }
 
 }  // namespace
+
+const CLI::Validator& non_empty() {
+  static const CLI::Validator validator(
+      [](std::string& value) -> std::string {
+        return value.empty() ? std::string("an empty value is not a value") : std::string();
+      },
+      "", "non-empty");
+  return validator;
+}
 
 void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
   add_user_flags(app, f);

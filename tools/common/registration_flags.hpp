@@ -27,6 +27,9 @@ constexpr const char* kRegistrationGroup = "Registration";
 constexpr const char* kTerminationGroup = "Termination";
 constexpr const char* kExpertGroup = "Expert (research and speed; the defaults are the measured best)";
 
+/// Refuses an empty value (CLI11 would read '' as 0 or as "not set").
+const CLI::Validator& non_empty();
+
 /// Adds the user flags (--radius, --max-neighbours, --error-model, --dof, --source-voxel,
 /// --target-voxel, --threads), the termination flags (--criterion, --max-iterations,
 /// --cost-drop-threshold, --patience, --mse-ratio, --mse-patience, --steps-threshold) and the
