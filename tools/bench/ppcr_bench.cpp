@@ -90,49 +90,52 @@ void progress(std::size_t done, std::size_t total, double last_error) {
   std::fflush(stderr);
 }
 
-}  // namespace
+struct Arguments {
+  std::string problems_path, data_root, method_name = "ppcr", out_csv, trace_dir, label;
+  int limit = 0;
+  bool json = false, quiet = false, reuse = false;
+  double success_translation = -1.0, success_rotation = 1.0, ndt_resolution = 0.0;
+  ppcr_tools::RegistrationFlags flags;
+};
 
-int main(int argc, char** argv) {
+void add_arguments(CLI::App& app, Arguments* a) {
+  app.add_option("PROBLEMS", a->problems_path, "problem file (id source target overlap t1..t12)")
+      ->required();
+  app.add_option("--data-root", a->data_root,
+                 "folder the problem file's cloud paths are relative to (default: its folder)");
+  ppcr_tools::add_registration_flags(app, &a->flags);
+  std::string method_help = "registration method:";
+  for (const std::string& n : ppcr_bench::available_methods()) method_help += " " + n;
+  app.add_option("--method", a->method_name, method_help + " (default ppcr)");
+  app.add_option("--limit", a->limit, "run only the first N problems");
+  app.add_option("--out", a->out_csv, "write one CSV row per problem");
+  app.add_flag("--json", a->json, "print the summary as one JSON object");
+  app.add_option("--trace-dir", a->trace_dir,
+                 "ppcr: write DIR/<id>.csv, one row per outer iteration, with the MSE and "
+                 "benchmark error w.r.t. the ground truth (on the registered, filtered source)");
+  app.add_flag("--quiet", a->quiet, "no progress bar");
+  app.add_option("--label", a->label,
+                 "name of this run in the summary and CSV (default: the method)");
+  app.add_flag("--reuse", a->reuse,
+               "ppcr: one ppcr::Registration for every problem (set_target + align per problem, "
+               "the loop usage) instead of ppcr::align per problem; same results");
+  app.add_option("--ndt-resolution", a->ndt_resolution,
+                 "pcl-ndt cell size, cloud units (default 2 x radius)");
+  app.add_option("--success-translation", a->success_translation,
+                 "success bound on the translation error, cloud units (default 10 x radius / 100"
+                 ", e.g. 2 mm for radius 0.02, 10 cm for radius 1)");
+  app.add_option("--success-rotation", a->success_rotation,
+                 "success bound on the rotation error, degrees (default 1)");
+}
+
+// Parses argv into *a and *options; returns -1 to go on, or the exit status.
+int parse(int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* options) {
   CLI::App app{
       "Runs the point clouds registration benchmark protocol on a problem file and "
       "prints the error quantiles, success rate, iterations and time.",
       "ppcr_bench"};
   app.set_version_flag("--version", std::string("ppcr_bench ") + PPCR_VERSION_STRING);
-  std::string problems_path, data_root, method_name = "ppcr", out_csv;
-  int limit = 0;
-  bool json = false, quiet = false;
-  double success_translation = -1.0, success_rotation = 1.0;
-  ppcr_tools::RegistrationFlags flags;
-  app.add_option("PROBLEMS", problems_path, "problem file (id source target overlap t1..t12)")
-      ->required();
-  app.add_option("--data-root", data_root,
-                 "folder the problem file's cloud paths are relative to (default: its folder)");
-  ppcr_tools::add_registration_flags(app, &flags);
-  std::string method_help = "registration method:";
-  for (const std::string& n : ppcr_bench::available_methods()) method_help += " " + n;
-  app.add_option("--method", method_name, method_help + " (default ppcr)");
-  app.add_option("--limit", limit, "run only the first N problems");
-  app.add_option("--out", out_csv, "write one CSV row per problem");
-  app.add_flag("--json", json, "print the summary as one JSON object");
-  std::string trace_dir;
-  app.add_option("--trace-dir", trace_dir,
-                 "ppcr: write DIR/<id>.csv, one row per outer iteration, with the MSE and "
-                 "benchmark error w.r.t. the ground truth (on the registered, filtered source)");
-  app.add_flag("--quiet", quiet, "no progress bar");
-  std::string label;
-  app.add_option("--label", label, "name of this run in the summary and CSV (default: the method)");
-  bool reuse = false;
-  app.add_flag("--reuse", reuse,
-               "ppcr: one ppcr::Registration for every problem (set_target + align per problem, "
-               "the loop usage) instead of ppcr::align per problem; same results");
-  double ndt_resolution = 0.0;
-  app.add_option("--ndt-resolution", ndt_resolution,
-                 "pcl-ndt cell size, cloud units (default 2 x radius)");
-  app.add_option("--success-translation", success_translation,
-                 "success bound on the translation error, cloud units (default 10 x radius / 100"
-                 ", e.g. 2 mm for radius 0.02, 10 cm for radius 1)");
-  app.add_option("--success-rotation", success_rotation,
-                 "success bound on the rotation error, degrees (default 1)");
+  add_arguments(app, a);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -143,97 +146,79 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ppcr_bench: error: %s (see --help)\n", e.what());
     return 2;
   }
-  ppcr::RegistrationOptions options;
-  ppcr::Status s = ppcr_tools::to_options(flags, &options);
+  const ppcr::Status s = ppcr_tools::to_options(a->flags, options);
   if (!s.ok()) {
     std::fprintf(stderr, "ppcr_bench: error: %s\n", s.message().c_str());
     return 2;
   }
-  if (limit < 0) return fail("--limit " + std::to_string(limit) + ": expected >= 0");
-  if (reuse && method_name != "ppcr")
-    return fail("--reuse is for --method ppcr, got " + method_name);
-  if (success_translation < 0.0) success_translation = 0.1 * options.radius;
-  std::vector<ppcr_bench::Problem> problems;
-  s = ppcr_bench::read_problems(problems_path, &problems);
-  if (!s.ok()) return fail(s.message());
-  if (limit > 0 && static_cast<std::size_t>(limit) < problems.size()) problems.resize(limit);
-  if (data_root.empty()) data_root = folder_of(problems_path);
+  if (a->limit < 0) return fail("--limit " + std::to_string(a->limit) + ": expected >= 0");
+  if (a->reuse && a->method_name != "ppcr") {
+    return fail("--reuse is for --method ppcr, got " + a->method_name);
+  }
+  if (a->success_translation < 0.0) a->success_translation = 0.1 * options->radius;
+  return -1;
+}
 
+std::unique_ptr<ppcr_bench::Method> make_method(const Arguments& a,
+                                                const ppcr::RegistrationOptions& options) {
   ppcr_bench::MethodSettings settings;
   settings.ppcr = options;
   settings.max_correspondence = options.radius;
-  settings.ndt_resolution = ndt_resolution > 0.0 ? ndt_resolution : 2.0 * options.radius;
+  settings.ndt_resolution = a.ndt_resolution > 0.0 ? a.ndt_resolution : 2.0 * options.radius;
   settings.max_iterations = options.max_iterations;
   settings.threads = options.num_threads;
-  settings.reuse_registration = reuse;
-  std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(method_name, settings);
-  if (!method) {
-    std::string names;
-    for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
-    return fail("--method " + method_name + ": unknown or not built (available:" + names + ")");
-  }
-  if (label.empty()) label = method->name();
-  if (!trace_dir.empty()) method->set_trace(true);
+  settings.reuse_registration = a.reuse;
+  std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(a.method_name, settings);
+  if (method && !a.trace_dir.empty()) method->set_trace(true);
+  return method;
+}
 
-  std::FILE* csv = nullptr;
-  if (!out_csv.empty()) {
-    csv = std::fopen(out_csv.c_str(), "w");
-    if (csv == nullptr) return fail(out_csv + ": cannot open for writing");
-    std::fprintf(csv,
-                 "id,method,error,rotation_error_deg,translation_error,iterations,"
-                 "stop_reason,converged,ok,time_ms,source_points,target_points\n");
-  }
-  const bool bar = !quiet && isatty(fileno(stderr));
-  CloudCache cache(data_root, options.target_voxel);
-  std::vector<ppcr_bench::ProblemOutcome> outcomes;
-  std::size_t failures = 0;
-  for (std::size_t i = 0; i < problems.size(); ++i) {
-    const ppcr_bench::Problem& p = problems[i];
-    const ppcr::PointCloud *P = nullptr, *target = nullptr;
-    s = cache.raw(p.source, &P);
-    if (s.ok()) s = cache.filtered_target(p.target, &target);
-    if (!s.ok()) return fail("problem " + p.id + ": " + s.message());
-    ppcr::PointCloud S(P->size());
-    for (std::size_t k = 0; k < P->size(); ++k) S[k] = p.T0 * (*P)[k];
-    ppcr::PointCloud S_filtered;
-    if (options.source_voxel > 0.0) {
-      s = ppcr::voxel_downsample(S, options.source_voxel, &S_filtered);
-      if (!s.ok()) return fail("problem " + p.id + ": source: " + s.message());
-    } else {
-      S_filtered = S;
-    }
-    const Eigen::Isometry3d T_gt = p.T0.inverse();
-    const auto start = std::chrono::steady_clock::now();
-    const ppcr_bench::MethodResult r = method->run(S_filtered, *target);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (!trace_dir.empty()) {
-      s = ppcr_tools::write_trace_csv(trace_dir + "/" + p.id + ".csv", r.history, S_filtered,
-                                      &T_gt);
-      if (!s.ok()) return fail(s.message());
-    }
-    ppcr_bench::ProblemOutcome o;
-    const ppcr::PoseErrors e = ppcr::evaluate(S, r.T_target_source, T_gt);
-    o.error = e.benchmark_error;
-    o.rotation_error_deg = e.rotation_error_deg;
-    o.translation_error = e.translation_error;
-    o.iterations = r.iterations;
-    o.time_ms = ms;
-    outcomes.push_back(o);
-    if (!r.ok) ++failures;
-    if (csv != nullptr) {
-      std::fprintf(csv, "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu\n", p.id.c_str(),
-                   label.c_str(), o.error, o.rotation_error_deg, o.translation_error, o.iterations,
-                   r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0, ms, S_filtered.size(),
-                   target->size());
-    }
-    if (bar) progress(i + 1, problems.size(), o.error);
-  }
-  if (csv != nullptr && std::fclose(csv) != 0) return fail(out_csv + ": write failed");
+// One problem: S = T0 P, filtered like the target; the method's registration call alone is
+// timed; the errors are evaluated afterwards on the full-resolution S.
+struct Run {
+  ppcr_bench::ProblemOutcome outcome;
+  ppcr_bench::MethodResult result;
+  std::size_t source_points = 0, target_points = 0;
+};
 
-  const ppcr_bench::Summary sum =
-      ppcr_bench::summarize(outcomes, success_rotation, success_translation);
-  if (json) {
+ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a,
+                         const ppcr::RegistrationOptions& options, CloudCache* cache,
+                         ppcr_bench::Method* method, Run* run) {
+  const ppcr::PointCloud *P = nullptr, *target = nullptr;
+  ppcr::Status s = cache->raw(p.source, &P);
+  if (s.ok()) s = cache->filtered_target(p.target, &target);
+  if (!s.ok()) return s;
+  ppcr::PointCloud S(P->size());
+  for (std::size_t k = 0; k < P->size(); ++k) S[k] = p.T0 * (*P)[k];
+  ppcr::PointCloud S_filtered = S;
+  if (options.source_voxel > 0.0) {
+    s = ppcr::voxel_downsample(S, options.source_voxel, &S_filtered);
+    if (!s.ok()) return ppcr::Status(s.code(), "source: " + s.message());
+  }
+  const Eigen::Isometry3d T_gt = p.T0.inverse();
+  const auto start = std::chrono::steady_clock::now();
+  run->result = method->run(S_filtered, *target);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!a.trace_dir.empty()) {
+    s = ppcr_tools::write_trace_csv(a.trace_dir + "/" + p.id + ".csv", run->result.history,
+                                    S_filtered, &T_gt);
+    if (!s.ok()) return s;
+  }
+  const ppcr::PoseErrors e = ppcr::evaluate(S, run->result.T_target_source, T_gt);
+  run->outcome.error = e.benchmark_error;
+  run->outcome.rotation_error_deg = e.rotation_error_deg;
+  run->outcome.translation_error = e.translation_error;
+  run->outcome.iterations = run->result.iterations;
+  run->outcome.time_ms = ms;
+  run->source_points = S_filtered.size();
+  run->target_points = target->size();
+  return ppcr::Status::Ok();
+}
+
+void print_summary(const Arguments& a, const std::string& label, const ppcr_bench::Summary& sum,
+                   std::size_t failures) {
+  if (a.json) {
     nlohmann::ordered_json j;
     j["method"] = label;
     j["problems"] = sum.problems;
@@ -246,14 +231,67 @@ int main(int argc, char** argv) {
     j["max_ms"] = sum.max_ms;
     j["failures"] = failures;
     std::printf("%s\n", j.dump().c_str());
-  } else {
-    std::printf("method %s, %zu problems (%zu failed to run)\n", label.c_str(), sum.problems,
-                failures);
-    std::printf("error median %.6g  q0.75 %.6g  q0.95 %.6g\n", sum.median, sum.q75, sum.q95);
-    std::printf("success %.1f %% (rotation < %g deg, translation < %g)\n", 100.0 * sum.success,
-                success_rotation, success_translation);
-    std::printf("mean iterations %.2f  time median %.1f ms  max %.1f ms\n", sum.mean_iterations,
-                sum.median_ms, sum.max_ms);
+    return;
   }
+  std::printf("method %s, %zu problems (%zu failed to run)\n", label.c_str(), sum.problems,
+              failures);
+  std::printf("error median %.6g  q0.75 %.6g  q0.95 %.6g\n", sum.median, sum.q75, sum.q95);
+  std::printf("success %.1f %% (rotation < %g deg, translation < %g)\n", 100.0 * sum.success,
+              a.success_rotation, a.success_translation);
+  std::printf("mean iterations %.2f  time median %.1f ms  max %.1f ms\n", sum.mean_iterations,
+              sum.median_ms, sum.max_ms);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments a;
+  ppcr::RegistrationOptions options;
+  const int parsed = parse(argc, argv, &a, &options);
+  if (parsed >= 0) return parsed;
+  std::vector<ppcr_bench::Problem> problems;
+  ppcr::Status s = ppcr_bench::read_problems(a.problems_path, &problems);
+  if (!s.ok()) return fail(s.message());
+  if (a.limit > 0 && static_cast<std::size_t>(a.limit) < problems.size()) problems.resize(a.limit);
+  if (a.data_root.empty()) a.data_root = folder_of(a.problems_path);
+  std::unique_ptr<ppcr_bench::Method> method = make_method(a, options);
+  if (!method) {
+    std::string names;
+    for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
+    return fail("--method " + a.method_name + ": unknown or not built (available:" + names + ")");
+  }
+  const std::string label = a.label.empty() ? method->name() : a.label;
+  std::FILE* csv = nullptr;
+  if (!a.out_csv.empty()) {
+    csv = std::fopen(a.out_csv.c_str(), "w");
+    if (csv == nullptr) return fail(a.out_csv + ": cannot open for writing");
+    std::fprintf(csv,
+                 "id,method,error,rotation_error_deg,translation_error,iterations,"
+                 "stop_reason,converged,ok,time_ms,source_points,target_points\n");
+  }
+  const bool bar = !a.quiet && isatty(fileno(stderr));
+  CloudCache cache(a.data_root, options.target_voxel);
+  std::vector<ppcr_bench::ProblemOutcome> outcomes;
+  std::size_t failures = 0;
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    const ppcr_bench::Problem& p = problems[i];
+    Run run;
+    s = run_problem(p, a, options, &cache, method.get(), &run);
+    if (!s.ok()) return fail("problem " + p.id + ": " + s.message());
+    const ppcr_bench::ProblemOutcome& o = run.outcome;
+    outcomes.push_back(o);
+    if (!run.result.ok) ++failures;
+    if (csv != nullptr) {
+      std::fprintf(csv, "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu\n", p.id.c_str(),
+                   label.c_str(), o.error, o.rotation_error_deg, o.translation_error, o.iterations,
+                   run.result.stop_reason.c_str(), run.result.converged ? 1 : 0,
+                   run.result.ok ? 1 : 0, o.time_ms, run.source_points, run.target_points);
+    }
+    if (bar) progress(i + 1, problems.size(), o.error);
+  }
+  if (csv != nullptr && std::fclose(csv) != 0) return fail(a.out_csv + ": write failed");
+  print_summary(a, label,
+                ppcr_bench::summarize(outcomes, a.success_rotation, a.success_translation),
+                failures);
   return 0;
 }
