@@ -84,6 +84,147 @@ void NormalEquations::resize(std::size_t source_points) {
   blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
 }
 
+namespace {
+
+// The squared errors r[m] of point p's count pairs (Mahalanobis for the plane model); returns
+// their smallest, as smallest() (weight_kernel.hpp) takes it.
+template <bool kPlane, bool kPairNormals>
+inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
+                             const PointCloud& target, const PlanePoint* points,
+                             const Eigen::Vector3d* pair_normals, double epsilon, double* r) {
+  double r_min = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t m = 0; m < count; ++m) {
+    double rm;
+    if constexpr (kPlane) {
+      const PlanePoint& q = points[idx[m]];
+      const Eigen::Vector3d e = q.y - p;
+      if constexpr (kPairNormals) {
+        const Eigen::Vector3d& nk = pair_normals[m];
+        const double ne = nk.dot(e);
+        rm = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
+      } else {
+        const double ne = q.n.dot(e);
+        rm = q.a * e.squaredNorm() + ne * ne;
+      }
+    } else {
+      rm = (target[idx[m]] - p).squaredNorm();
+    }
+    r[m] = rm;
+    r_min = m == 0 || rm < r_min ? rm : r_min;
+  }
+  return r_min;
+}
+
+// Plane model, target normals: O = sum_k u_k Omega_k (symmetric: 6 sums), B = sum_k u_k b_k,
+// U = sum_k u_k, in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for two); then
+// Obar = c O and ebar = c B - Obar p (PlanePoint). Scales w by c.
+inline void accumulate_plane(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
+                             const PlanePoint* points, const double* r, double c, double* w,
+                             BlockSums* s) {
+  Eigen::Array2d o_xx_yy = Eigen::Array2d::Zero();
+  Eigen::Array2d o_xy_yz = Eigen::Array2d::Zero();
+  Eigen::Array2d o_xz_zz = Eigen::Array2d::Zero();
+  Eigen::Array2d b_xy = Eigen::Array2d::Zero();
+  double b_z = 0.0, U = 0.0, ur = 0.0;
+  for (std::size_t m = 0; m < count; ++m) {
+    const double u = w[m];
+    const PlanePoint& q = points[idx[m]];
+    const Eigen::Array2d uu = Eigen::Array2d::Constant(u);
+    o_xx_yy += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xx_yy);
+    o_xy_yz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xy_yz);
+    o_xz_zz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xz_zz);
+    b_xy += uu * Eigen::Map<const Eigen::Array2d>(q.b_xy);
+    b_z += u * q.b_z;
+    U += u;
+    ur += u * r[m];
+    w[m] *= c;
+  }
+  const Sym3 Obar{c * o_xx_yy[0], c * o_xx_yy[1], c * o_xz_zz[1],
+                  c * o_xy_yz[0], c * o_xy_yz[1], c * o_xz_zz[0]};
+  // ebar = c B - Obar p
+  const Eigen::Vector3d ebar(c * b_xy[0] - (Obar.xx * p.x() + Obar.xy * p.y() + Obar.xz * p.z()),
+                             c * b_xy[1] - (Obar.xy * p.x() + Obar.yy * p.y() + Obar.yz * p.z()),
+                             c * b_z - (Obar.xz * p.x() + Obar.yz * p.y() + Obar.zz * p.z()));
+  add_plane_point(p, Obar, ebar, &s->H, &s->ebar, &s->ebar_cross_p);
+  s->cost += c * ur;
+  s->S0 += c * U;
+}
+
+// Plane model, pair normals: a normal per slot, not per target point, so no moments; Omega_kj is
+// formed from the pair's normal n_k here. Obar = c (A I + N), N = sum_k u_k n_k n_k^T
+// (symmetric: 6 sums), ebar = c sum_k u_k (a_k e_k + n_k (n_k . e_k)). The sums are kept in
+// pairs of lanes; each lane does one sum's scalar operations in the scalar order (n . e as
+// (x + y) + z), so every sum is the same to the bit as when written one by one (our targets are
+// compiled with -ffp-contract=off: no a * b + c is fused into a multiply-add; tested with
+// -march=haswell, the fma stage of tools/test.sh). Scales w by c.
+inline void accumulate_pair_normals(const Eigen::Vector3d& p, std::size_t count,
+                                    const std::uint32_t* idx, const PlanePoint* points,
+                                    const Eigen::Vector3d* pair_normals, double epsilon,
+                                    const double* r, double c, double* w, BlockSums* s) {
+  Eigen::Array2d AU = Eigen::Array2d::Zero();       // (A, U): sum u a, sum u
+  Eigen::Array2d n00_n11 = Eigen::Array2d::Zero();  // (N_00, N_11)
+  Eigen::Array2d n01_n12 = Eigen::Array2d::Zero();  // (N_01, N_12)
+  Eigen::Array2d n02_n22 = Eigen::Array2d::Zero();  // (N_02, N_22)
+  Eigen::Array2d bxy = Eigen::Array2d::Zero();      // (ebar_x, ebar_y) / c
+  double bz = 0.0, ur = 0.0;
+  const Eigen::Array2d p_xy(p.x(), p.y());
+  for (std::size_t m = 0; m < count; ++m) {
+    const double u = w[m];
+    const PlanePoint& q = points[idx[m]];
+    const Eigen::Vector3d& nk = pair_normals[m];
+    const double ak = omega_isotropic(nk, epsilon);
+    const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.data());
+    const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.data() + 1);
+    const double nz = nk.z();
+    const Eigen::Array2d e_xy = Eigen::Map<const Eigen::Array2d>(q.y.data()) - p_xy;
+    const double ez = q.y.z() - p.z();
+    const Eigen::Array2d ne_xy = n_xy * e_xy;
+    const double ua = u * ak;
+    const double une = u * (ne_xy[0] + ne_xy[1] + nz * ez);  // u (n . e)
+    const Eigen::Array2d un_xy = u * n_xy;
+    const double unz = u * nz;
+    AU += Eigen::Array2d(ua, u);
+    ur += u * r[m];
+    n00_n11 += un_xy * n_xy;
+    n01_n12 += un_xy * n_yz;
+    n02_n22 += Eigen::Array2d(un_xy[0], unz) * nz;
+    bxy += ua * e_xy + une * n_xy;
+    bz += ua * ez + une * nz;
+    w[m] *= c;
+  }
+  const double A = AU[0], U = AU[1];
+  const double n00 = n00_n11[0], n11 = n00_n11[1], n01 = n01_n12[0], n12 = n01_n12[1];
+  const double n02 = n02_n22[0], n22 = n02_n22[1], bx = bxy[0], by = bxy[1];
+  const Sym3 Obar{c * (n00 + A), c * (n11 + A), c * (n22 + A), c * n01, c * n12, c * n02};
+  add_plane_point(p, Obar, c * Eigen::Vector3d(bx, by, bz), &s->H, &s->ebar, &s->ebar_cross_p);
+  s->cost += c * ur;
+  s->S0 += c * U;
+}
+
+// Point model: W_j, sum_k w y_k and the cost, accumulated with u and scaled by c once.
+inline void accumulate_point(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
+                             const PointCloud& target, const double* r, double c, double* w,
+                             BlockSums* s) {
+  double U = 0.0, ur = 0.0;
+  Eigen::Vector3d uy = Eigen::Vector3d::Zero();
+  for (std::size_t m = 0; m < count; ++m) {
+    U += w[m];
+    ur += w[m] * r[m];
+    uy += w[m] * target[idx[m]];
+    w[m] *= c;
+  }
+  const double W = c * U;
+  const Eigen::Vector3d ebar = c * uy - W * p;  // sum_k w_kj e_kj
+  s->cost += c * ur;
+  s->S0 += W;
+  s->S1 += W * p;
+  s->S2.noalias() += (W * p) * p.transpose();
+  s->ebar += ebar;
+  s->ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
+}
+
+}  // namespace
+
 template <bool kPlane, bool kPairNormals, class Kernel>
 void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
                            const AssociationTable& assoc, const Eigen::Isometry3d& T,
@@ -119,30 +260,10 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       const std::uint32_t* idx = &assoc.index[slot];
       double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
       double* w = &w_new[slot];
+      const Eigen::Vector3d* normals = kPairNormals ? pair_normals + slot : nullptr;
       const Eigen::Vector3d p = R * source[j] + t;
-      // Squared errors of the point's pairs (Mahalanobis for the plane model), and the cost
-      // under the previous weights.
-      // r_min: their smallest, as smallest() (weight_kernel.hpp) takes it.
-      double r_min = std::numeric_limits<double>::quiet_NaN();
-      for (std::size_t m = 0; m < count; ++m) {
-        double rm;
-        if constexpr (kPlane) {
-          const PlanePoint& q = points[idx[m]];
-          const Eigen::Vector3d e = q.y - p;
-          if constexpr (kPairNormals) {
-            const Eigen::Vector3d& nk = pair_normals[slot + m];
-            const double ne = nk.dot(e);
-            rm = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
-          } else {
-            const double ne = q.n.dot(e);
-            rm = q.a * e.squaredNorm() + ne * ne;
-          }
-        } else {
-          rm = (target[idx[m]] - p).squaredNorm();
-        }
-        r[m] = rm;
-        r_min = m == 0 || rm < r_min ? rm : r_min;
-      }
+      const double r_min = squared_errors<kPlane, kPairNormals>(p, count, idx, target, points,
+                                                                normals, epsilon, r);
       if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
         const double* wp = &w_prev[slot];
         for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
@@ -150,106 +271,11 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       // E-step at this pose (eq. 2-4): w = c * u.
       const PointWeights pw = e_step(r, r_min, count, w);
       if constexpr (kPlane && !kPairNormals) {
-        // O = sum_k u_k Omega_k (symmetric: 6 sums), B = sum_k u_k b_k, U = sum_k u_k, in pairs
-        // of lanes (Eigen::Array2d: one SSE2 / NEON operation for two); then Obar = c O and
-        // ebar = c B - Obar p (PlanePoint).
-        Eigen::Array2d o_xx_yy = Eigen::Array2d::Zero();
-        Eigen::Array2d o_xy_yz = Eigen::Array2d::Zero();
-        Eigen::Array2d o_xz_zz = Eigen::Array2d::Zero();
-        Eigen::Array2d b_xy = Eigen::Array2d::Zero();
-        double b_z = 0.0, U = 0.0, ur = 0.0;
-        for (std::size_t m = 0; m < count; ++m) {
-          const double u = w[m];
-          const PlanePoint& q = points[idx[m]];
-          const Eigen::Array2d uu = Eigen::Array2d::Constant(u);
-          o_xx_yy += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xx_yy);
-          o_xy_yz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xy_yz);
-          o_xz_zz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xz_zz);
-          b_xy += uu * Eigen::Map<const Eigen::Array2d>(q.b_xy);
-          b_z += u * q.b_z;
-          U += u;
-          ur += u * r[m];
-          w[m] *= pw.c;
-        }
-        const double c = pw.c;
-        const Sym3 Obar{c * o_xx_yy[0], c * o_xx_yy[1], c * o_xz_zz[1],
-                        c * o_xy_yz[0], c * o_xy_yz[1], c * o_xz_zz[0]};
-        // ebar = c B - Obar p
-        const Eigen::Vector3d ebar(
-            c * b_xy[0] - (Obar.xx * p.x() + Obar.xy * p.y() + Obar.xz * p.z()),
-            c * b_xy[1] - (Obar.xy * p.x() + Obar.yy * p.y() + Obar.yz * p.z()),
-            c * b_z - (Obar.xz * p.x() + Obar.yz * p.y() + Obar.zz * p.z()));
-        add_plane_point(p, Obar, ebar, &s.H, &s.ebar, &s.ebar_cross_p);
-        s.cost += pw.c * ur;
-        s.S0 += pw.c * U;
+        accumulate_plane(p, count, idx, points, r, pw.c, w, &s);
       } else if constexpr (kPlane) {
-        // Pair normals: a normal per slot, not per target point, so no moments; Omega_kj is
-        // formed from the pair's normal n_k here.
-        // Obar = c (A I + N), N = sum_k u_k n_k n_k^T (symmetric: 6 sums),
-        // ebar = c sum_k u_k (a_k e_k + n_k (n_k . e_k)).
-        // The sums are kept in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for
-        // two). Each lane does one sum's scalar operations in the scalar order (n . e as
-        // (x + y) + z), so every sum is the same to the bit as when written one by one (our
-        // targets are compiled with -ffp-contract=off, so no a * b + c is fused into a
-        // multiply-add where the instruction set has one: tested with -march=haswell, the fma
-        // stage of tools/test.sh; AArch64 not built).
-        Eigen::Array2d AU = Eigen::Array2d::Zero();       // (A, U): sum u a, sum u
-        Eigen::Array2d n00_n11 = Eigen::Array2d::Zero();  // (N_00, N_11)
-        Eigen::Array2d n01_n12 = Eigen::Array2d::Zero();  // (N_01, N_12)
-        Eigen::Array2d n02_n22 = Eigen::Array2d::Zero();  // (N_02, N_22)
-        Eigen::Array2d bxy = Eigen::Array2d::Zero();      // (ebar_x, ebar_y) / c
-        double bz = 0.0, ur = 0.0;
-        const Eigen::Array2d p_xy(p.x(), p.y());
-        for (std::size_t m = 0; m < count; ++m) {
-          const double u = w[m];
-          const PlanePoint& q = points[idx[m]];
-          const Eigen::Vector3d& nk = pair_normals[slot + m];
-          const double ak = omega_isotropic(nk, epsilon);
-          const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.data());
-          const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.data() + 1);
-          const double nz = nk.z();
-          const Eigen::Array2d e_xy = Eigen::Map<const Eigen::Array2d>(q.y.data()) - p_xy;
-          const double ez = q.y.z() - p.z();
-          const Eigen::Array2d ne_xy = n_xy * e_xy;
-          const double ua = u * ak;
-          const double une = u * (ne_xy[0] + ne_xy[1] + nz * ez);  // u (n . e)
-          const Eigen::Array2d un_xy = u * n_xy;
-          const double unz = u * nz;
-          AU += Eigen::Array2d(ua, u);
-          ur += u * r[m];
-          n00_n11 += un_xy * n_xy;
-          n01_n12 += un_xy * n_yz;
-          n02_n22 += Eigen::Array2d(un_xy[0], unz) * nz;
-          bxy += ua * e_xy + une * n_xy;
-          bz += ua * ez + une * nz;
-          w[m] *= pw.c;
-        }
-        const double A = AU[0], U = AU[1];
-        const double n00 = n00_n11[0], n11 = n00_n11[1], n01 = n01_n12[0], n12 = n01_n12[1];
-        const double n02 = n02_n22[0], n22 = n02_n22[1], bx = bxy[0], by = bxy[1];
-        const double c = pw.c;
-        const Sym3 Obar{c * (n00 + A), c * (n11 + A), c * (n22 + A), c * n01, c * n12, c * n02};
-        add_plane_point(p, Obar, c * Eigen::Vector3d(bx, by, bz), &s.H, &s.ebar, &s.ebar_cross_p);
-        s.cost += pw.c * ur;
-        s.S0 += pw.c * U;
+        accumulate_pair_normals(p, count, idx, points, normals, epsilon, r, pw.c, w, &s);
       } else {
-        // W_j, sum_k w y_k and the cost, accumulated with u and scaled by c once.
-        double U = 0.0, ur = 0.0;
-        Eigen::Vector3d uy = Eigen::Vector3d::Zero();
-        for (std::size_t m = 0; m < count; ++m) {
-          U += w[m];
-          ur += w[m] * r[m];
-          uy += w[m] * target[idx[m]];
-          w[m] *= pw.c;
-        }
-        const double W = pw.c * U;
-        const Eigen::Vector3d ebar = pw.c * uy - W * p;  // sum_k w_kj e_kj
-        s.cost += pw.c * ur;
-        s.S0 += W;
-        s.S1 += W * p;
-        s.S2.noalias() += (W * p) * p.transpose();
-        s.ebar += ebar;
-        s.ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
+        accumulate_point(p, count, idx, target, r, pw.c, w, &s);
       }
     }
     blocks_[static_cast<std::size_t>(b)] = s;

@@ -87,6 +87,15 @@ struct Evaluation {
   Vector6d g = Vector6d::Zero();
 };
 
+/// Per-block partial sums of a pass. Point model: S0, S1, S2 (H from 10 numbers, header
+/// comment); plane model: the 6x6 H directly (upper triangle used).
+struct BlockSums {
+  double S0, cost, cost_prev;
+  Eigen::Vector3d S1, ebar, ebar_cross_p;
+  Eigen::Matrix3d S2;
+  Matrix6d H;
+};
+
 class NormalEquations {
  public:
   static constexpr std::size_t kBlockSize = 256;
@@ -117,14 +126,6 @@ class NormalEquations {
                                      const std::vector<PlanePoint>& target_points);
 
  private:
-  // Per-block partial sums. Point model: S0, S1, S2 (H from 10 numbers, header comment);
-  // plane model: the 6x6 H directly (upper triangle used).
-  struct BlockSums {
-    double S0, cost, cost_prev;
-    Eigen::Vector3d S1, ebar, ebar_cross_p;
-    Eigen::Matrix3d S2;
-    Matrix6d H;
-  };
   template <bool kPlane, bool kPairNormals, class Kernel>
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
