@@ -104,152 +104,161 @@ void NeighbourCache::invalidate() {
   last_resorted = 0;
 }
 
-void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
-                      const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
-                      NeighbourCache* cache, AssociationTable* table) {
-  // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
-  assert(radius > 0.0);
-  const int k = table->k;
-  const int capacity = cache->capacity;
-  const double radius_sq = radius * radius;
-  const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
-  const double candidate_radius_sq = candidate_radius * candidate_radius;
-  const Eigen::Matrix3d R = T_target_source.linear();
-  const Eigen::Vector3d t = T_target_source.translation();
-  // The lists and rho hold for the table, k and radius of the last call (the set certificate
-  // re-sorts that table's rows in place): anything else starts afresh.
-  if (cache->table != table || cache->table_k != k || cache->table_radius != radius) {
-    cache->invalidate();
+namespace {
+
+// What one associate_cached call shares between its points.
+struct CallContext {
+  const KdTree& tree;
+  const PointCloud& target;
+  const PointCloud& source;
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  int k, capacity;
+  double radius, radius_sq, candidate_radius, candidate_radius_sq;
+  NeighbourCache* cache;
+  AssociationTable* table;
+};
+
+// Per point: its position, its rows, and the candidates' squared distances at p.
+struct PointState {
+  std::size_t j = 0;
+  Eigen::Vector3d p;
+  std::uint32_t* out_idx = nullptr;
+  double* out_d = nullptr;
+  std::uint32_t* cand = nullptr;
+  double margin = 0.0;  // what both certificates give up against rounding at p
+  double left_out_sq = 0.0;
+  bool listed_distances = false;                // cand_d holds the list's distances at p
+  double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
+  std::uint8_t seed = NeighbourCache::kUnseeded;
+};
+
+// The row re-ranked at p: its count, p' and rho^2 (outside_min bounds every point not kept).
+void set_ranked(const CallContext& c, const PointState& s, int n, double m, double outside_min) {
+  c.table->count[s.j] = static_cast<std::uint16_t>(n);
+  c.cache->ranked_at[s.j] = s.p;
+  c.cache->set_radius_sq[s.j] = set_radius_sq(n, c.k, m, c.radius, outside_min, s.margin);
+}
+
+// The list certificate of neighbour_cache.hpp for a point that moved delta since its list's
+// query: true when the re-ranked candidates are the row. It needs kth + delta < B_j, so a fast
+// mover (delta > kFastMove x B_j) goes straight to the query (the same table): its list would
+// pass only if kth < (1 - kFastMove) B_j, far below the k-th of K candidates on a surface
+// (~0.85 B_j), and a point that moved B_j or more cannot pass at all.
+bool certified_rerank(const CallContext& c, PointState* s, double delta) {
+  NeighbourCache& cache = *c.cache;
+  const std::size_t j = s->j;
+  if (!(delta <= NeighbourCache::kFastMove * cache.bound[j])) return false;
+  // Distances first (independent gathers the CPU overlaps), then the branchy selection.
+  distances(c.target, s->p, s->cand, cache.count[j], s->cand_d);
+  s->listed_distances = true;
+  const int n = rerank(s->cand, s->cand_d, cache.count[j], c.k, c.radius_sq, s->out_idx,
+                       s->out_d, &s->left_out_sq);
+  const double m = n > 0 ? std::sqrt(s->out_d[n - 1]) : 0.0;
+  const double kth = n == c.k ? m : c.radius;
+  if (!(kth + delta < cache.bound[j] - s->margin)) return false;
+  set_ranked(c, *s, n, m, std::min(std::sqrt(s->left_out_sq), cache.bound[j] - delta));
+  cache.path[j] = NeighbourCache::kReranked;
+  return true;
+}
+
+// The want nearest within r_c around p into cand / cand_d. A point with a list of at least
+// `want` candidates seeds its query, else one whose block's previous point has such a list takes
+// that (neighbour_cache.hpp, "Seeded queries", for why the seeded search finds the same want
+// nearest in the same order). prev: that point, or -1.
+int seeded_query(const CallContext& c, PointState* s, int want, std::ptrdiff_t prev) {
+  const NeighbourCache& cache = *c.cache;
+  double seed_sq = std::numeric_limits<double>::infinity();  // none: bounded by r_c^2 only
+  bool own = false;  // seeded by the point's own list, else by the previous point's
+  const int listed = cache.bound[s->j] >= 0.0 ? cache.count[s->j] : 0;
+  if (listed >= want) {
+    if (!s->listed_distances) distances(c.target, s->p, s->cand, listed, s->cand_d);
+    double b = 0.0;
+    for (int i = 0; i < listed; ++i) b = s->cand_d[i] > b ? s->cand_d[i] : b;
+    seed_sq = seed_bound_sq(b);
+    own = true;
+  } else if (prev >= 0 && cache.count[static_cast<std::size_t>(prev)] >= want) {
+    // prev was visited before j in this call, so its list is valid (queried, or kept).
+    assert(cache.bound[static_cast<std::size_t>(prev)] >= 0.0);
+    // `want` real target points (the first of the previous point's list) bound the distance
+    // of this point's want-th neighbour as well as its own list would.
+    const std::uint32_t* theirs =
+        &cache.index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(c.capacity)];
+    seed_sq = seed_bound_sq(s->p, c.target, theirs, want);
   }
-  // Points in blocks of kSeedBlock, each visited in order by one thread: a point without a list
-  // to seed its query from may seed it from the block's previous point's list ("Seeded
-  // queries"). prev: that point, or -1 for a block's first point.
-  auto point = [&](std::size_t j, std::ptrdiff_t prev) {
-    const std::size_t slot = j * static_cast<std::size_t>(k);
-    const std::size_t cslot = j * static_cast<std::size_t>(capacity);
-    std::uint32_t* out_idx = &table->index[slot];
-    double* out_d = &table->dist_sq[slot];
-    std::uint32_t* cand = &cache->index[cslot];
-    const Eigen::Vector3d p = R * source[j] + t;
-    // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
-    // margin subtracted from rho_j when it was stored covers the rounding of either side).
-    if (cache->bound[j] >= 0.0 &&
-        (p - cache->ranked_at[j]).squaredNorm() < cache->set_radius_sq[j]) {
-      resort(target, p, table->count[j], out_idx, out_d);
-      cache->path[j] = NeighbourCache::kResorted;
-      return;
+  const SeededKnn knn = seeded_radius_knn(c.tree, s->p, want, seed_sq, c.candidate_radius_sq,
+                                          s->cand, s->cand_d);
+  if (knn.outcome != SeedOutcome::kUnseeded) {
+    const bool repeated = knn.outcome == SeedOutcome::kRepeated;
+    if (own) {
+      s->seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
+    } else {
+      s->seed = repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
     }
-    // What both certificates give up against the rounding of the distances at p: 1e-9 of the
-    // radius, and 1e-12 of |p| for coordinates far larger than the radius, bounded by the L1 norm
-    // (no square root). (Without it, an exact tie such as sqrt(18) + sqrt(2) = sqrt(32) can
-    // compute as strictly less.)
-    const double margin = 1e-9 * radius + 1e-12 * p.cwiseAbs().sum();
-    // The row re-ranked at p: its count, p' and rho^2 (outside_min bounds every point not kept).
-    auto ranked = [&](int n, double m, double outside_min) {
-      table->count[j] = static_cast<std::uint16_t>(n);
-      cache->ranked_at[j] = p;
-      cache->set_radius_sq[j] = set_radius_sq(n, k, m, radius, outside_min, margin);
-    };
-    double left_out_sq = 0.0;
-    bool listed_distances = false;                // cand_d holds the list's distances at p
-    double cand_d[NeighbourCache::kMaxCapacity];  // the candidates' squared distances to p
-    // The list certificate of neighbour_cache.hpp for a point that moved delta since its list's
-    // query: true when the re-ranked candidates are the row. It needs kth + delta < B_j, so a
-    // fast mover (delta > kFastMove x B_j) goes straight to the query (the same table): its list
-    // would pass only if kth < (1 - kFastMove) B_j, far below the k-th of K candidates on a
-    // surface (~0.85 B_j), and a point that moved B_j or more cannot pass at all.
-    auto certified_rerank = [&](double delta) {
-      if (!(delta <= NeighbourCache::kFastMove * cache->bound[j])) return false;
-      // Distances first (independent gathers the CPU overlaps), then the branchy selection.
-      distances(target, p, cand, cache->count[j], cand_d);
-      listed_distances = true;
-      const int n =
-          rerank(cand, cand_d, cache->count[j], k, radius_sq, out_idx, out_d, &left_out_sq);
-      const double m = n > 0 ? std::sqrt(out_d[n - 1]) : 0.0;
-      const double kth = n == k ? m : radius;
-      if (!(kth + delta < cache->bound[j] - margin)) return false;
-      ranked(n, m, std::min(std::sqrt(left_out_sq), cache->bound[j] - delta));
-      cache->path[j] = NeighbourCache::kReranked;
-      return true;
-    };
-    // A point that moved more than kFastMove x B_j since its last query is likely to move past
-    // a new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
-    bool fast = false;
-    if (cache->bound[j] >= 0.0) {
-      const double delta = (p - cache->query[j]).norm();
-      fast = delta > NeighbourCache::kFastMove * cache->bound[j];
-      if (certified_rerank(delta)) return;
-    }
-    // Re-query: the K nearest within r_c around p (their distances go to cand_d), then
-    // the same re-rank as a cache hit, so that the table's tie order never depends on which path
-    // a point took. The tree's distances are computed as distances() computes them: the same
-    // coordinates (the tree's copy is exact) in the same expression, squared_distance().
-    // The k + 1-th decides ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the
-    // k-th, the point is queried for capacity after all.
-    // A point with a list of at least `want` candidates seeds its query, else one whose block's
-    // previous point has such a list takes that (neighbour_cache.hpp, "Seeded queries", for why
-    // the seeded search finds the same want nearest in the same order).
-    std::uint8_t seed = NeighbourCache::kUnseeded;
-    auto query = [&](int want) {
-      double seed_sq = std::numeric_limits<double>::infinity();  // none: bounded by r_c^2 only
-      bool own = false;  // seeded by the point's own list, else by the previous point's
-      const int listed = cache->bound[j] >= 0.0 ? cache->count[j] : 0;
-      if (listed >= want) {
-        if (!listed_distances) distances(target, p, cand, listed, cand_d);
-        double b = 0.0;
-        for (int c = 0; c < listed; ++c) b = cand_d[c] > b ? cand_d[c] : b;
-        seed_sq = seed_bound_sq(b);
-        own = true;
-      } else if (prev >= 0 && cache->count[static_cast<std::size_t>(prev)] >= want) {
-        // prev was visited before j in this call, so its list is valid (queried, or kept).
-        assert(cache->bound[static_cast<std::size_t>(prev)] >= 0.0);
-        // `want` real target points (the first of the previous point's list) bound the
-        // distance of this point's want-th neighbour as well as its own list would.
-        const std::uint32_t* theirs =
-            &cache->index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(capacity)];
-        seed_sq = seed_bound_sq(p, target, theirs, want);
-      }
-      const SeededKnn knn =
-          seeded_radius_knn(target_tree, p, want, seed_sq, candidate_radius_sq, cand, cand_d);
-      if (knn.outcome != SeedOutcome::kUnseeded) {
-        const bool repeated = knn.outcome == SeedOutcome::kRepeated;
-        if (own) {
-          seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
-        } else {
-          seed =
-              repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
-        }
-      }
-      return knn.found;
-    };
-    int want = fast ? std::min(k + 1, capacity) : capacity;
-    int found = query(want);
-    if (want < capacity && found == want && !(cand_d[k] > cand_d[k - 1])) {
-      want = capacity;
-      found = target_tree.radius_knn(p, want, candidate_radius_sq, cand, cand_d);
-    }
-    cache->count[j] = static_cast<std::uint16_t>(found);
-    cache->bound[j] = found == want ? std::sqrt(cand_d[want - 1]) : candidate_radius;
-    cache->query[j] = p;
-    cache->path[j] = NeighbourCache::kQueried;
-    cache->seed[j] = seed;
-    const int n = rerank(cand, cand_d, found, k, radius_sq, out_idx, out_d, &left_out_sq);
-    ranked(n, n > 0 ? std::sqrt(out_d[n - 1]) : 0.0,
-           std::min(std::sqrt(left_out_sq), cache->bound[j]));
-  };
-  constexpr std::size_t kSeedBlock = 64;
-  const std::size_t n_blocks = (source.size() + kSeedBlock - 1) / kSeedBlock;
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
-    const std::size_t end = std::min(source.size(), begin + kSeedBlock);
-    for (std::size_t j = begin; j < end; ++j) {
-      point(j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
-    }
-  });
-  cache->table = table;
-  cache->table_k = k;
-  cache->table_radius = radius;
-  table->recount();
+  }
+  return knn.found;
+}
+
+// Re-query: the K nearest within r_c around p, then the same re-rank as a cache hit, so that the
+// table's tie order never depends on which path a point took. The tree's distances are computed
+// as distances() computes them. A fast mover is queried for k + 1 only; the k + 1-th decides
+// ties (neighbour_cache.hpp, "Fast movers"): when it is as near as the k-th, the point is
+// queried for capacity after all.
+void requery(const CallContext& c, PointState* s, bool fast, std::ptrdiff_t prev) {
+  NeighbourCache& cache = *c.cache;
+  const std::size_t j = s->j;
+  int want = fast ? std::min(c.k + 1, c.capacity) : c.capacity;
+  int found = seeded_query(c, s, want, prev);
+  if (want < c.capacity && found == want && !(s->cand_d[c.k] > s->cand_d[c.k - 1])) {
+    want = c.capacity;
+    found = c.tree.radius_knn(s->p, want, c.candidate_radius_sq, s->cand, s->cand_d);
+  }
+  cache.count[j] = static_cast<std::uint16_t>(found);
+  cache.bound[j] = found == want ? std::sqrt(s->cand_d[want - 1]) : c.candidate_radius;
+  cache.query[j] = s->p;
+  cache.path[j] = NeighbourCache::kQueried;
+  cache.seed[j] = s->seed;
+  const int n = rerank(s->cand, s->cand_d, found, c.k, c.radius_sq, s->out_idx, s->out_d,
+                       &s->left_out_sq);
+  set_ranked(c, *s, n, n > 0 ? std::sqrt(s->out_d[n - 1]) : 0.0,
+             std::min(std::sqrt(s->left_out_sq), cache.bound[j]));
+}
+
+// Point j: the set certificate (re-sort the row), else the list certificate (re-rank the
+// candidates), else a query.
+void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
+  NeighbourCache& cache = *c.cache;
+  const std::size_t slot = j * static_cast<std::size_t>(c.k);
+  PointState s;  // cand_d left uninitialised: written before it is read
+  s.j = j;
+  s.p = c.R * c.source[j] + c.t;
+  s.out_idx = &c.table->index[slot];
+  s.out_d = &c.table->dist_sq[slot];
+  s.cand = &cache.index[j * static_cast<std::size_t>(c.capacity)];
+  // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
+  // margin subtracted from rho_j when it was stored covers the rounding of either side).
+  if (cache.bound[j] >= 0.0 && (s.p - cache.ranked_at[j]).squaredNorm() < cache.set_radius_sq[j]) {
+    resort(c.target, s.p, c.table->count[j], s.out_idx, s.out_d);
+    cache.path[j] = NeighbourCache::kResorted;
+    return;
+  }
+  // 1e-9 of the radius, and 1e-12 of |p| for coordinates far larger than the radius, bounded by
+  // the L1 norm (no square root). (Without it, an exact tie such as sqrt(18) + sqrt(2) =
+  // sqrt(32) can compute as strictly less.)
+  s.margin = 1e-9 * c.radius + 1e-12 * s.p.cwiseAbs().sum();
+  // A point that moved more than kFastMove x B_j since its last query is likely to move past a
+  // new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
+  bool fast = false;
+  if (cache.bound[j] >= 0.0) {
+    const double delta = (s.p - cache.query[j]).norm();
+    fast = delta > NeighbourCache::kFastMove * cache.bound[j];
+    if (certified_rerank(c, &s, delta)) return;
+  }
+  requery(c, &s, fast, prev);
+}
+
+// The last call's path and seed counts (NeighbourCache::last_*).
+void count_paths(NeighbourCache* cache) {
   std::size_t queries = 0, seeded = 0, repeats = 0, resorted = 0;
   std::size_t neighbour_seeded = 0, neighbour_repeats = 0;
   for (std::size_t j = 0; j < cache->path.size(); ++j) {
@@ -269,6 +278,51 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   cache->last_neighbour_seeded = neighbour_seeded;
   cache->last_neighbour_seed_repeats = neighbour_repeats;
   cache->last_resorted = resorted;
+}
+
+}  // namespace
+
+void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
+                      const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
+                      NeighbourCache* cache, AssociationTable* table) {
+  // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
+  assert(radius > 0.0);
+  const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
+  const CallContext c{target_tree,
+                      target,
+                      source,
+                      T_target_source.linear(),
+                      T_target_source.translation(),
+                      table->k,
+                      cache->capacity,
+                      radius,
+                      radius * radius,
+                      candidate_radius,
+                      candidate_radius * candidate_radius,
+                      cache,
+                      table};
+  // The lists and rho hold for the table, k and radius of the last call (the set certificate
+  // re-sorts that table's rows in place): anything else starts afresh.
+  if (cache->table != table || cache->table_k != c.k || cache->table_radius != radius) {
+    cache->invalidate();
+  }
+  // Points in blocks of kSeedBlock, each visited in order by one thread: a point without a list
+  // to seed its query from may seed it from the block's previous point's list ("Seeded
+  // queries").
+  constexpr std::size_t kSeedBlock = 64;
+  const std::size_t n_blocks = (source.size() + kSeedBlock - 1) / kSeedBlock;
+  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
+    const std::size_t end = std::min(source.size(), begin + kSeedBlock);
+    for (std::size_t j = begin; j < end; ++j) {
+      associate_point(c, j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
+    }
+  });
+  cache->table = table;
+  cache->table_k = c.k;
+  cache->table_radius = radius;
+  table->recount();
+  count_paths(cache);
 }
 
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
