@@ -1,0 +1,80 @@
+// Tests of detail::Associator, the association step behind one interface: with the neighbour
+// cache and with the coarse level (both speed measures) its tables equal a brute-force
+// radius-limited kNN of every associated point, and the plain path's, pose after pose.
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "association_reference.hpp"
+#include "associator.hpp"
+#include "core_test_util.hpp"
+#include "kdtree.hpp"
+
+using core_test::Rng;
+using ppcr::PointCloud;
+using ppcr::detail::Associator;
+using ppcr::detail::KdTree;
+
+namespace {
+
+// A sequence of poses converging on the identity, as the outer loop produces.
+Eigen::Isometry3d pose(int step) {
+  const double f = 1.0 / (1 << step);
+  return core_test::make_pose(Eigen::Vector3d(0.3, 1.0, 0.2), core_test::deg2rad(8.0) * f,
+                              Eigen::Vector3d(0.05, -0.03, 0.02) * f);
+}
+
+struct Fixture {
+  PointCloud target, source;
+  KdTree tree;
+  Fixture() {
+    Rng rng(7);
+    target = core_test::analytic_scene(rng, 6000);
+    source = core_test::analytic_scene(rng, 3000);
+    REQUIRE(tree.build(target).ok());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("Associator: cached and coarse paths give brute force's tables at every pose",
+          "[associator]") {
+  Fixture f;
+  const double radius = 0.15;
+  for (int cache_extra : {0, 4}) {
+    for (std::size_t stride : {std::size_t{1}, std::size_t{3}}) {
+      INFO("cache_extra " << cache_extra << ", stride " << stride);
+      Associator a;
+      a.set_target(&f.tree, &f.target, nullptr);
+      a.prepare(Associator::Settings{5, radius, cache_extra, stride, 1}, f.source, nullptr);
+      CHECK(a.has_coarse_level() == (stride > 1));
+      for (int step = 0; step < 8; ++step) {
+        const bool coarse = step < 4;  // the coarse phase, then every point
+        const Eigen::Isometry3d T = pose(step);
+        a.find(coarse, T);
+        INFO("step " << step);
+        CHECK(a.coarse() == (coarse && stride > 1));
+        CHECK(a.points().size() == (a.coarse() ? (f.source.size() + stride - 1) / stride
+                                               : f.source.size()));
+        CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, T, radius * radius) == "");
+      }
+    }
+  }
+}
+
+TEST_CASE("Associator: a coarse level that finds no pair is dropped for every point",
+          "[associator]") {
+  Fixture f;
+  // Only every third source point is far from the target: the coarse level (stride 3, points
+  // 0, 3, 6, ...) finds nothing, the others do.
+  PointCloud source = f.source;
+  for (std::size_t i = 0; i < source.size(); i += 3) source[i] += Eigen::Vector3d(100, 0, 0);
+  Associator a;
+  a.set_target(&f.tree, &f.target, nullptr);
+  a.prepare(Associator::Settings{5, 0.15, 4, 3, 1}, source, nullptr);
+  a.find(true, Eigen::Isometry3d::Identity());
+  CHECK_FALSE(a.coarse());
+  CHECK_FALSE(a.has_coarse_level());
+  CHECK(a.table().pairs > 0);
+  CHECK(core_test::table_mismatch(a.table(), source, f.target, Eigen::Isometry3d::Identity(),
+                                  0.15 * 0.15) == "");
+}
