@@ -68,6 +68,9 @@ std::string ply_seed(const char* encoding, bool big_endian, bool faces_first) {
   return f;
 }
 
+// A UTF-8 byte-order mark, which every reader skips at the start of a file.
+const std::string kBom = "\xEF\xBB\xBF";
+
 const char kPcdHead[] =
     "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal _ rgb\n"
     "SIZE 4 8 2 4 1 4\nTYPE F F I F U U\nCOUNT 1 1 1 3 2 1\nWIDTH 2\nHEIGHT 2\n"
@@ -286,6 +289,7 @@ int main(int argc, char** argv) {
   ok &= save(out / "ply" / "crlf.ply", crlf);
   const ppcr::PointCloud cloud = {Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(-1, 2e10, 3)};
   ok &= ppcr::io::write_cloud((out / "ply" / "written.ply").string(), cloud).ok();
+  ok &= save(out / "ply" / "bom.ply", kBom + crlf);  // a UTF-8 byte-order mark before "ply"
   // PCD: ascii, binary, binary_compressed, organized with NaN, an old v.5 header; our writer.
   std::string ascii = std::string(kPcdHead) + "DATA ascii\n";
   ascii +=
@@ -300,14 +304,24 @@ int main(int argc, char** argv) {
              "VERSION .5\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nPOINTS 2\n"
              "DATA ascii\n1 2 3\n4 5 6\n");
   ok &= ppcr::io::write_cloud((out / "pcd" / "written.pcd").string(), cloud).ok();
+  // As PCL's command-line tools write them: the data section padded with zeros; and with a BOM.
+  ok &= save(out / "pcd" / "padded_binary.pcd", binary + std::string(100, '\0'));
+  ok &= save(out / "pcd" / "padded_compressed.pcd", pcd_compressed() + std::string(100, '\0'));
+  ok &= save(out / "pcd" / "bom_ascii.pcd", kBom + ascii);
   // XYZ: blanks, CSV with header, comments, PTS count; our writer.
   ok &= save(out / "xyz" / "plain.xyz", "1 2 3\n4\t5 6\n\n# c\n7 8 9 # t\r\n");
   ok &= save(out / "xyz" / "header.csv", "x,y,z,i\n1.5,2,3,4\n-1e-3,+2,nan,0\n");
   ok &= save(out / "xyz" / "scan.pts", "2\n1 2 3 4 5 6 7\n8 9 10 11 12 13 14\n");
   ok &= ppcr::io::write_cloud((out / "xyz" / "written.xyz").string(), cloud).ok();
+  // Columns chosen by a header row's names; a BOM; CloudCompare's "//X" header.
+  ok &= save(out / "xyz" / "normals_first.csv", "nx,ny,nz,x,y,z\n0,0,1,1.5,2,3\n0,1,0,4,5,6\n");
+  ok &= save(out / "xyz" / "bom_zyx.csv", kBom + std::string("Z, Y, X\n3,2,1\n6,5,4\n"));
+  ok &= save(out / "xyz" / "cloudcompare.txt", "//X Y Z R G B\n1 2 3 255 0 0\n4 5 6 0 255 0\n");
+  ok &= save(out / "xyz" / "bom.pts", kBom + std::string("1\n1 2 3\n"));
   // Transforms: 16 numbers, 12 numbers with comments.
   ok &= save(out / "transform" / "t16.txt", "1 0 0 1.5\n0 1 0 -2\n0 0 1 0.25\n0 0 0 1\n");
   ok &= save(out / "transform" / "t12.txt", "# gt\n0.6 -0.8 0 1\n0.8 0.6 0 2 # row\n0 0 1 3\n");
+  ok &= save(out / "transform" / "bom.txt", kBom + std::string("1 0 0 0\n0 1 0 0\n0 0 1 0\n"));
   // Registration: small valid problems of each kind (see registration_seeds()).
   ok &= registration_seeds(out / "registration");
   if (!ok) {

@@ -31,18 +31,27 @@ struct ReadReport {
 /// case-insensitive) and, when the extension is unknown, by the file's first bytes ("ply" line;
 /// "# .PCD", VERSION or FIELDS; numbers). Coordinates are read as double; points with a non-finite
 /// coordinate are dropped and counted in report->non_finite_dropped. A file holding zero finite
-/// points is an error (kEmptyCloud). The file is read whole into memory first.
+/// points is an error (kEmptyCloud). The file is read whole into memory first. A UTF-8
+/// byte-order mark at the start is skipped in every format. Devices (/dev/zero, /dev/urandom, a
+/// terminal) are refused (kIoError); a pipe is read up to 1 GiB, more is refused.
 /// On any error *cloud is left empty; *report (if given) holds what was learnt before the error.
 ///
 /// Formats read:
 ///  - PLY ascii / binary_little_endian / binary_big_endian: x y z of element "vertex", of any
 ///    numeric type; other properties (also lists) and other elements (faces...) are skipped.
 ///  - PCD v0.7 (and .5/.6 headers) DATA ascii / binary / binary_compressed (LZF): fields x y z of
-///    any TYPE/SIZE/COUNT; organized clouds are read row after row (NaN padding dropped).
-///  - XYZ/CSV/PTS text: one point per line, fields separated by blanks and/or commas, the first
+///    any TYPE/SIZE/COUNT; organized clouds are read row after row (NaN padding dropped). Zero
+///    bytes after the points (the padding PCL's command-line tools write) are accepted; any
+///    other trailing byte is refused with the count of extra bytes.
+///  - XYZ/CSV/PTS text: one point per line, fields separated by blanks or by commas, the first
 ///    three are x y z, every line has the same number (>= 3) of numeric fields; blank lines and
 ///    '#' comments are skipped. The FIRST non-comment line may instead be a header of column
 ///    names (no numeric field) or a PTS point count (one integer, checked against the data).
+///    A header naming x, y and z (any case, CloudCompare's "//X" too) selects those columns
+///    ("nx,ny,nz,x,y,z"); one naming none of them keeps the first three; data lines must have as
+///    many fields as it names. A decimal comma ("1,5 2,0 3,25"), a thousands separator
+///    ("5,632.500 1 2") or ';'-separated fields are refused (kParseError with the line, the
+///    column and the text), never guessed.
 Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report = nullptr,
                   Format format = Format::kAuto);
 
@@ -65,6 +74,7 @@ Status write_cloud(const std::string& path, const PointCloud& cloud, Format form
 
 /// Reads a rigid transform: 16 numbers (a 4x4 matrix, row by row) or 12 (its top 3 rows, the last
 /// row being 0 0 0 1), separated by blanks/newlines; '#' starts a comment to the end of the line.
+/// A file over 1 MiB is refused before it is read; devices are refused, pipes read up to 1 MiB.
 /// The matrix must be rigid, as ppcr::se3::is_rigid(M, 1e-6) decides (R^T R = I and det R = +1
 /// within 1e-6), with the last row 0 0 0 1 within 1e-9; otherwise kParseError says what is wrong
 /// (e.g. "R^T R deviates from I by 0.03"). The values are kept as written (not re-orthonormalised),

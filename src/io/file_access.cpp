@@ -1,7 +1,9 @@
 // file_access.cpp - whole-file reads and checked buffered writes (see file_access.hpp).
 #include "file_access.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <filesystem>
 #include <system_error>
 
@@ -25,49 +27,108 @@ void remove_partial(const std::string& path) {
 }
 constexpr std::size_t kReadChunkBytes = 1 << 16;
 
+// How a file type is named in messages.
+std::string type_name(std::filesystem::file_type type) {
+  switch (type) {
+    case std::filesystem::file_type::character:
+      return "a character device";
+    case std::filesystem::file_type::block:
+      return "a block device";
+    case std::filesystem::file_type::fifo:
+      return "a pipe (FIFO)";
+    case std::filesystem::file_type::socket:
+      return "a socket";
+    default:
+      return "a file that is not a regular file";
+  }
+}
+
+Status too_large(const std::string& path, const std::string& size, const ReadLimits& limits,
+                 std::uint64_t limit) {
+  return Status(StatusCode::kIoError, path + ": " + size + " bytes is too large for " +
+                                          limits.kind + " (limit " + std::to_string(limit) +
+                                          " bytes); not read");
+}
+
+struct BoundedRead {
+  std::size_t used = 0;
+  bool over_limit = false;  // more than the limit arrived (only limit + 1 bytes were read)
+  bool error = false;
+  int error_number = 0;
+};
+
+// Reads f to EOF into *bytes, but never more than limit + 1 bytes. `expected` (the size of a
+// regular file, else 0) sizes the buffer once; otherwise it grows by doubling from one chunk.
+BoundedRead read_bounded(std::FILE* f, std::uint64_t expected, std::uint64_t limit,
+                         std::string* bytes) {
+  const std::uint64_t cap = std::min<std::uint64_t>(limit, SIZE_MAX - 1) + 1;
+  const std::uint64_t first = expected > 0 ? expected + 1 : kReadChunkBytes;
+  bytes->resize(static_cast<std::size_t>(std::min(first, cap)));
+  BoundedRead r;
+  for (;;) {
+    if (r.used == bytes->size()) {
+      if (r.used >= cap) break;
+      bytes->resize(static_cast<std::size_t>(std::min<std::uint64_t>(2 * r.used, cap)));
+    }
+    errno = 0;
+    const std::size_t got = std::fread(&(*bytes)[r.used], 1, bytes->size() - r.used, f);
+    r.used += got;
+    if (got == 0) break;
+  }
+  r.over_limit = r.used > limit;
+  r.error = std::ferror(f) != 0;
+  r.error_number = errno;
+  bytes->resize(r.used);
+  return r;
+}
+
 }  // namespace
 
-Status read_file_bytes(const std::string& path, std::string* bytes) {
+Status read_file_bytes(const std::string& path, const ReadLimits& limits, std::string* bytes) {
   bytes->clear();
   if (path.empty()) return Status(StatusCode::kIoError, "empty file name");
   std::error_code ec;
   const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  if (st.type() == std::filesystem::file_type::not_found) {
+  const std::filesystem::file_type type = st.type();
+  if (type == std::filesystem::file_type::not_found) {
     return Status(StatusCode::kIoError, path + ": cannot open: no such file");
   }
-  if (st.type() == std::filesystem::file_type::directory) {
+  if (type == std::filesystem::file_type::directory) {
     return Status(StatusCode::kIoError, path + ": cannot read: is a directory, not a file");
+  }
+  if (type == std::filesystem::file_type::character || type == std::filesystem::file_type::block) {
+    return Status(StatusCode::kIoError, path + ": cannot read: it is " + type_name(type) +
+                                            ", not a regular file (a device can give bytes "
+                                            "without end); expected " +
+                                            limits.kind);
+  }
+  const bool regular = type == std::filesystem::file_type::regular;
+  const std::uint64_t limit = regular ? limits.max_regular_bytes : limits.max_stream_bytes;
+  std::uint64_t expected = 0;
+  if (regular) {
+    expected = std::filesystem::file_size(path, ec);
+    if (ec) expected = 0;
+    if (expected > limit) return too_large(path, std::to_string(expected), limits, limit);
   }
   errno = 0;
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (f == nullptr) {
     return Status(StatusCode::kIoError, path + ": cannot open: " + reason(errno));
   }
-  // Regular files: size the buffer once. Others (pipes, devices): read chunks until EOF.
-  std::uintmax_t expected = 0;
-  const bool regular = st.type() == std::filesystem::file_type::regular;
-  if (regular) {
-    expected = std::filesystem::file_size(path, ec);
-    if (ec) expected = 0;
-  }
-  std::size_t used = 0;
-  bytes->resize(regular && expected > 0 ? static_cast<std::size_t>(expected) + 1 : kReadChunkBytes);
-  for (;;) {
-    if (used == bytes->size()) bytes->resize(bytes->size() * 2);
-    errno = 0;
-    const std::size_t got = std::fread(&(*bytes)[used], 1, bytes->size() - used, f);
-    used += got;
-    if (got == 0) break;
-  }
-  const bool read_error = std::ferror(f) != 0;
-  const int read_errno = errno;
+  const BoundedRead got = read_bounded(f, expected, limit, bytes);
   std::fclose(f);
-  if (read_error) {
+  if (got.error) {
     bytes->clear();
-    return Status(StatusCode::kIoError, path + ": read failed after " + std::to_string(used) +
-                                            " bytes: " + reason(read_errno));
+    return Status(StatusCode::kIoError, path + ": read failed after " + std::to_string(got.used) +
+                                            " bytes: " + reason(got.error_number));
   }
-  bytes->resize(used);
+  if (got.over_limit) {
+    bytes->clear();
+    if (regular) return too_large(path, "more than " + std::to_string(limit), limits, limit);
+    return Status(StatusCode::kIoError,
+                  path + ": " + type_name(type) + " gave more than " + std::to_string(limit) +
+                      " bytes without ending, the limit for " + limits.kind + "; refused");
+  }
   return Status::Ok();
 }
 

@@ -43,9 +43,10 @@ Format format_from_extension_impl(const std::string& path) {
 }
 
 Format format_from_content(const char* data, std::size_t size) {
-  const std::string_view all(data, size);
+  const std::size_t bom = utf8_bom_size(data, size);
+  const std::string_view all(data + bom, size - bom);
   if (starts_with(all, "ply\n") || starts_with(all, "ply\r\n")) return Format::kPly;
-  LineCursor cursor(data, size < kMaxSniffBytes ? size : kMaxSniffBytes);
+  LineCursor cursor(data, size < kMaxSniffBytes ? size : kMaxSniffBytes, bom);
   std::string_view line;
   bool saw_names_line = false;
   while (cursor.next(&line)) {

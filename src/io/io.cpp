@@ -2,6 +2,7 @@
 // per-format readers and writers, with exceptions contained (see guard.hpp).
 #include "ppcr/io.hpp"
 
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -14,6 +15,10 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 namespace {
+
+// A regular cloud file is bounded by memory only (a failed allocation is reported); a pipe is
+// read up to 1 GiB, so that a writer that never stops cannot exhaust memory.
+constexpr detail::ReadLimits kCloudLimits{UINT64_MAX, std::uint64_t{1} << 30, "a point cloud"};
 
 Status read_buffer(const std::string& name, const char* data, std::size_t size, Format format,
                    PointCloud* cloud, ReadReport* report) {
@@ -87,7 +92,7 @@ Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report
     cloud->clear();
     if (report != nullptr) *report = ReadReport();
     std::string bytes;
-    Status file_status = detail::read_file_bytes(path, &bytes);
+    Status file_status = detail::read_file_bytes(path, kCloudLimits, &bytes);
     if (!file_status.ok()) return file_status;
     return read_cloud_from_buffer(path, bytes.data(), bytes.size(), format, cloud, report);
   });

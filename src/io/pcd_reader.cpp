@@ -1,12 +1,13 @@
 // pcd_reader.cpp - reads the x y z fields of a PCD file (v0.7, and v.5/v.6 headers), DATA ascii,
 // binary or binary_compressed.
 //
-// Header: '#' comment lines, VERSION, FIELDS (or COLUMNS), SIZE, TYPE (default F), COUNT
-// (default 1), WIDTH, HEIGHT (default 1), VIEWPOINT (optional, 7 numbers, not applied to the
-// points), POINTS (default WIDTH*HEIGHT, else must equal it), DATA (last). x, y, z are found by
-// name and may have any TYPE/SIZE (F4 F8 I1..I8 U1..U8) and COUNT (the first value is used); all
-// other fields, whatever their COUNT, are skipped. Organized clouds (HEIGHT > 1) are read row
-// after row; their NaN padding points are dropped and counted like any non-finite point.
+// The header is parsed in pcd_header.cpp. x, y, z are found by name and may have any TYPE/SIZE
+// (F4 F8 I1..I8 U1..U8) and COUNT (the first value is used); all other fields, whatever their
+// COUNT, are skipped. Organized clouds (HEIGHT > 1) are read row after row; their NaN padding
+// points are dropped and counted like any non-finite point.
+//
+// A UTF-8 byte-order mark before the header is skipped. After the points, zero bytes (the padding
+// PCL's command-line tools write) are accepted; other trailing bytes are refused.
 //
 // binary: POINTS records of the packed field layout (array of structures), little endian.
 // binary_compressed: uint32 compressed size, uint32 uncompressed size (little endian), then LZF
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "formats.hpp"
+#include "pcd_header.hpp"
 #include "scalar_type.hpp"
 #include "text_scan.hpp"
 
@@ -29,289 +31,31 @@ namespace io {
 namespace detail {
 namespace {
 
-struct PcdField {
-  std::string name;
-  std::uint64_t size = 0;   // bytes per value
-  char type = 'F';          // F, I or U
-  std::uint64_t count = 1;  // values per point
-  ScalarType scalar = ScalarType::kFloat32;
-  bool is_padding() const { return name == "_"; }
-};
-
-enum class PcdData { kAscii, kBinary, kBinaryCompressed };
-
-struct PcdHeader {
-  std::vector<PcdField> fields;
-  std::size_t fields_line = 0, size_line = 0, type_line = 0, count_line = 0;
-  std::size_t width_line = 0, height_line = 0, points_line = 0, version_line = 0;
-  std::size_t viewpoint_line = 0, data_line = 0;
-  std::uint64_t width = 0, height = 1, points = 0;
-  std::uint64_t num_points = 0;  // WIDTH x HEIGHT, checked against POINTS
-  PcdData data = PcdData::kAscii;
-  std::size_t body_offset = 0;      // first byte after the DATA line
-  std::size_t body_first_line = 0;  // line number of the first body line (ascii)
-  std::size_t xyz_field[3] = {0, 0, 0};
-};
-
-const char* data_name(PcdData d) {
-  switch (d) {
-    case PcdData::kAscii:
-      return "ascii";
-    case PcdData::kBinary:
-      return "binary";
-    case PcdData::kBinaryCompressed:
-      return "binary_compressed";
-  }
-  return "?";
-}
-
 std::string at_line(std::size_t line) { return "line " + std::to_string(line) + ": "; }
 
 std::string quoted(std::string_view text) { return "'" + escape_for_message(text) + "'"; }
 
-// Reads the rest of a header line as a list of tokens.
-std::vector<std::string_view> rest_tokens(Tokenizer* tokens) {
-  std::vector<std::string_view> out;
-  std::string_view t;
-  while (tokens->next(&t)) out.push_back(t);
-  return out;
-}
-
-Status parse_single_count(const Input& in, std::size_t ln, std::string_view keyword,
-                          Tokenizer* tokens, std::uint64_t* value) {
-  const std::vector<std::string_view> values = rest_tokens(tokens);
-  if (values.size() != 1) {
-    return parse_error(in, at_line(ln) + std::string(keyword) + " expects one value, found " +
-                               std::to_string(values.size()));
-  }
-  if (!parse_uint64(values[0], value)) {
-    const bool negative = !values[0].empty() && values[0][0] == '-';
+// Bytes after the points. PCL's blob writer (used by its command-line tools, e.g.
+// pcl_convert_pcd_ascii_binary and pcl_ply2pcd) pads the data section with zeros up to a page
+// boundary, so trailing zeros are padding; any other trailing byte means the header does not
+// describe the data, and is refused with the count of extra bytes.
+Status check_padding(const Input& in, std::size_t data_end, const std::string& what) {
+  for (std::size_t i = data_end; i < in.size; ++i) {
+    if (in.data[i] == '\0') continue;
     return parse_error(
-        in, at_line(ln) + std::string(keyword) + " " + quoted(values[0]) +
-                (negative ? " is negative" : " is not a non-negative integer below 2^64"));
+        in, what + " ends at byte " + std::to_string(data_end) + " but the file has " +
+                std::to_string(in.size) + " bytes (" + std::to_string(in.size - data_end) +
+                " unexpected extra bytes, not zero padding: byte " + std::to_string(i) + " is " +
+                quoted(std::string_view(in.data + i, 1)) + ")");
   }
   return Status::Ok();
 }
 
-Status parse_header(const Input& in, PcdHeader* h) {
-  LineCursor cursor(in.data, in.size);
-  std::string_view line;
-  bool have_data = false, have_size = false, have_type = false, have_count = false;
-  bool have_width = false, have_height = false, have_points = false, have_fields = false;
-  std::vector<std::string_view> sizes, types, counts;
-  std::size_t content_lines = 0;
-  while (cursor.next(&line)) {
-    const std::size_t ln = cursor.line_number();
-    const std::string_view text = trim(line);
-    if (text.empty() || text[0] == '#') continue;
-    ++content_lines;
-    Tokenizer tokens(text);
-    std::string_view keyword;
-    tokens.next(&keyword);
-    auto duplicate = [&](bool seen) {
-      return seen ? parse_error(in, at_line(ln) + "second " + std::string(keyword) + " line")
-                  : Status::Ok();
-    };
-    if (keyword == "VERSION") {
-      if (h->version_line != 0) return duplicate(true);
-      h->version_line = ln;
-      const std::vector<std::string_view> v = rest_tokens(&tokens);
-      static const char* const kKnown[] = {"0.7", ".7", "0.6", ".6", "0.5", ".5", "0.7.0"};
-      bool known = false;
-      for (const char* k : kKnown) known = known || (v.size() == 1 && v[0] == k);
-      if (!known) {
-        return parse_error(in, at_line(ln) + "unsupported PCD VERSION " + quoted(text.substr(7)) +
-                                   " (expected 0.7, .6 or .5)");
-      }
-    } else if (keyword == "FIELDS" || keyword == "COLUMNS") {
-      Status s = duplicate(have_fields);
-      if (!s.ok()) return s;
-      have_fields = true;
-      h->fields_line = ln;
-      for (std::string_view name : rest_tokens(&tokens)) {
-        PcdField f;
-        f.name = std::string(name);
-        h->fields.push_back(std::move(f));
-      }
-      if (h->fields.empty()) return parse_error(in, at_line(ln) + "FIELDS names no field");
-    } else if (keyword == "SIZE") {
-      Status s = duplicate(have_size);
-      if (!s.ok()) return s;
-      have_size = true;
-      h->size_line = ln;
-      sizes = rest_tokens(&tokens);
-    } else if (keyword == "TYPE") {
-      Status s = duplicate(have_type);
-      if (!s.ok()) return s;
-      have_type = true;
-      h->type_line = ln;
-      types = rest_tokens(&tokens);
-    } else if (keyword == "COUNT") {
-      Status s = duplicate(have_count);
-      if (!s.ok()) return s;
-      have_count = true;
-      h->count_line = ln;
-      counts = rest_tokens(&tokens);
-    } else if (keyword == "WIDTH") {
-      Status s = duplicate(have_width);
-      if (s.ok()) s = parse_single_count(in, ln, keyword, &tokens, &h->width);
-      if (!s.ok()) return s;
-      have_width = true;
-      h->width_line = ln;
-    } else if (keyword == "HEIGHT") {
-      Status s = duplicate(have_height);
-      if (s.ok()) s = parse_single_count(in, ln, keyword, &tokens, &h->height);
-      if (!s.ok()) return s;
-      have_height = true;
-      h->height_line = ln;
-    } else if (keyword == "POINTS") {
-      Status s = duplicate(have_points);
-      if (s.ok()) s = parse_single_count(in, ln, keyword, &tokens, &h->points);
-      if (!s.ok()) return s;
-      have_points = true;
-      h->points_line = ln;
-    } else if (keyword == "VIEWPOINT") {
-      Status s = duplicate(h->viewpoint_line != 0);
-      if (!s.ok()) return s;
-      h->viewpoint_line = ln;
-      const std::vector<std::string_view> v = rest_tokens(&tokens);
-      double ignored = 0.0;
-      bool numbers = v.size() == 7;
-      for (std::string_view t : v) numbers = numbers && parse_double(t, &ignored);
-      if (!numbers) {
-        return parse_error(in, at_line(ln) +
-                                   "VIEWPOINT expects 7 numbers (tx ty tz qw qx qy qz), saw " +
-                                   quoted(text.substr(9)));
-      }
-    } else if (keyword == "DATA") {
-      const std::vector<std::string_view> v = rest_tokens(&tokens);
-      if (v.size() == 1 && v[0] == "ascii") {
-        h->data = PcdData::kAscii;
-      } else if (v.size() == 1 && v[0] == "binary") {
-        h->data = PcdData::kBinary;
-      } else if (v.size() == 1 && v[0] == "binary_compressed") {
-        h->data = PcdData::kBinaryCompressed;
-      } else {
-        return parse_error(in, at_line(ln) + "unknown DATA type " + quoted(text.substr(4)) +
-                                   " (expected ascii, binary or binary_compressed)");
-      }
-      h->data_line = ln;
-      have_data = true;
-      break;
-    } else {
-      if (content_lines == 1) {
-        return parse_error(
-            in, at_line(ln) + "not a PCD header: expected VERSION or FIELDS, saw " + quoted(text));
-      }
-      return parse_error(in, at_line(ln) + "unknown PCD header keyword " + quoted(keyword) +
-                                 " (expected VERSION FIELDS SIZE TYPE COUNT WIDTH HEIGHT "
-                                 "VIEWPOINT POINTS DATA)");
-    }
+// A line after the points that holds nothing: blanks, or the zero bytes of padding.
+bool is_padding_line(std::string_view line) {
+  for (char c : line) {
+    if (c != '\0' && !is_blank_char(c)) return false;
   }
-  if (!have_data) {
-    return parse_error(in, "header has no DATA line (the file ends at byte " +
-                               std::to_string(in.size) + ", line " +
-                               std::to_string(cursor.line_number()) + ")");
-  }
-  h->body_offset = cursor.offset();
-  h->body_first_line = cursor.line_number() + 1;
-
-  // Fields: SIZE, TYPE, COUNT must list one entry per field.
-  if (!have_fields) return parse_error(in, "header has no FIELDS line");
-  const std::size_t n = h->fields.size();
-  if (!have_size) return parse_error(in, "header has no SIZE line");
-  auto length_mismatch = [&](const char* what, std::size_t line_no, std::size_t found) {
-    return parse_error(in, at_line(line_no) + what + " lists " + std::to_string(found) +
-                               " entries but FIELDS (line " + std::to_string(h->fields_line) +
-                               ") names " + std::to_string(n));
-  };
-  if (sizes.size() != n) return length_mismatch("SIZE", h->size_line, sizes.size());
-  if (have_type && types.size() != n) return length_mismatch("TYPE", h->type_line, types.size());
-  if (have_count && counts.size() != n) {
-    return length_mismatch("COUNT", h->count_line, counts.size());
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    PcdField& f = h->fields[i];
-    if (!parse_uint64(sizes[i], &f.size)) {
-      return parse_error(in, at_line(h->size_line) + "SIZE of field '" + f.name + "' is " +
-                                 quoted(sizes[i]) + ", expected 1, 2, 4 or 8");
-    }
-    if (have_type) {
-      if (types[i].size() != 1) {
-        return parse_error(in, at_line(h->type_line) + "TYPE of field '" + f.name + "' is " +
-                                   quoted(types[i]) + ", expected F, I or U");
-      }
-      f.type = types[i][0];
-    }
-    if (!pcd_scalar_type(f.type, f.size, &f.scalar)) {
-      return parse_error(in, at_line(have_type ? h->type_line : h->size_line) + "field '" + f.name +
-                                 "' has TYPE " + std::string(1, f.type) + " SIZE " +
-                                 std::to_string(f.size) +
-                                 ", expected F 4/8, I 1/2/4/8 or U 1/2/4/8");
-    }
-    if (have_count && (!parse_uint64(counts[i], &f.count) || f.count == 0)) {
-      return parse_error(in, at_line(h->count_line) + "COUNT of field '" + f.name + "' is " +
-                                 quoted(counts[i]) + ", expected a positive integer");
-    }
-  }
-  static const char* const kAxes[3] = {"x", "y", "z"};
-  for (int axis = 0; axis < 3; ++axis) {
-    bool found = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (h->fields[i].name != kAxes[axis]) continue;
-      if (found) {
-        return parse_error(
-            in, at_line(h->fields_line) + "field '" + kAxes[axis] + "' appears twice in FIELDS");
-      }
-      found = true;
-      h->xyz_field[axis] = i;
-    }
-    if (!found) {
-      return parse_error(in, at_line(h->fields_line) + "FIELDS has no field '" + kAxes[axis] + "'");
-    }
-  }
-
-  // Point count: WIDTH x HEIGHT, which POINTS (if given) must equal.
-  if (!have_width) {
-    if (!have_points) return parse_error(in, "header has neither WIDTH nor POINTS");
-    h->width = h->points;
-    h->height = 1;
-  }
-  if (!checked_mul(h->width, h->height, &h->num_points)) {
-    return parse_error(in, at_line(h->width_line) + "WIDTH x HEIGHT = " + std::to_string(h->width) +
-                               " x " + std::to_string(h->height) + " overflows");
-  }
-  if (have_points && h->points != h->num_points) {
-    return parse_error(in, at_line(h->points_line) + "POINTS " + std::to_string(h->points) +
-                               " disagrees with WIDTH x HEIGHT = " + std::to_string(h->width) +
-                               " x " + std::to_string(h->height) + " = " +
-                               std::to_string(h->num_points));
-  }
-  return Status::Ok();
-}
-
-// Bytes per point of the fields, with or without the "_" padding fields; false on overflow.
-bool point_bytes(const PcdHeader& h, bool include_padding, std::uint64_t* bytes) {
-  std::uint64_t total = 0;
-  for (const PcdField& f : h.fields) {
-    if (f.is_padding() && !include_padding) continue;
-    std::uint64_t field_bytes = 0;
-    if (!checked_mul(f.size, f.count, &field_bytes) || !checked_add(total, field_bytes, &total)) {
-      return false;
-    }
-  }
-  *bytes = total;
-  return true;
-}
-
-// Values per point (sum of COUNT), with or without the padding fields; false on overflow.
-bool point_values(const PcdHeader& h, bool include_padding, std::uint64_t* values) {
-  std::uint64_t total = 0;
-  for (const PcdField& f : h.fields) {
-    if (f.is_padding() && !include_padding) continue;
-    if (!checked_add(total, f.count, &total)) return false;
-  }
-  *values = total;
   return true;
 }
 
@@ -391,7 +135,7 @@ Status read_ascii(const Input& in, const PcdHeader& h, PointSink* sink, PointClo
     sink->add(xyz[0], xyz[1], xyz[2]);
   }
   while (cursor.next(&line)) {
-    if (!is_blank_line(line)) {
+    if (!is_padding_line(line)) {
       return parse_error(in, at_line(cursor.line_number()) +
                                  "unexpected data after the last of POINTS " +
                                  std::to_string(h.num_points) + " points: " + quoted(line));
@@ -417,13 +161,10 @@ Status read_binary(const Input& in, const PcdHeader& h, PointSink* sink, PointCl
                 " bytes = " + std::to_string(total) + " bytes after the header at byte " +
                 std::to_string(h.body_offset) + ", file has " + std::to_string(remaining));
   }
-  if (total < remaining) {
-    return parse_error(in, "binary data of " + std::to_string(h.num_points) + " points x " +
-                               std::to_string(bytes_per_point) + " bytes ends at byte " +
-                               std::to_string(h.body_offset + total) + " but the file has " +
-                               std::to_string(in.size) + " bytes (" +
-                               std::to_string(remaining - total) + " unexpected extra bytes)");
-  }
+  Status padding = check_padding(in, static_cast<std::size_t>(h.body_offset + total),
+                                 "binary data of " + std::to_string(h.num_points) + " points x " +
+                                     std::to_string(bytes_per_point) + " bytes");
+  if (!padding.ok()) return padding;
   std::size_t offset[3] = {0, 0, 0};
   ScalarLoader load[3];
   for (int axis = 0; axis < 3; ++axis) {
@@ -472,13 +213,10 @@ Status read_binary_compressed(const Input& in, const PcdHeader& h, PointSink* si
                                " announces " + std::to_string(compressed) +
                                " compressed bytes, file has " + std::to_string(remaining - 8));
   }
-  if (compressed < remaining - 8) {
-    return parse_error(in, "binary_compressed data ends at byte " +
-                               std::to_string(h.body_offset + 8 + compressed) +
-                               " but the file has " + std::to_string(in.size) + " bytes (" +
-                               std::to_string(remaining - 8 - compressed) +
-                               " unexpected extra bytes)");
-  }
+  Status padding = check_padding(
+      in, h.body_offset + 8 + compressed,
+      "binary_compressed data of " + std::to_string(compressed) + " compressed bytes");
+  if (!padding.ok()) return padding;
   std::uint64_t bytes_all = 0, bytes_no_pad = 0, total_all = 0, total_no_pad = 0;
   if (!point_bytes(h, true, &bytes_all) || !point_bytes(h, false, &bytes_no_pad) ||
       !checked_mul(h.num_points, bytes_all, &total_all) ||
@@ -545,7 +283,7 @@ Status read_pcd(const Input& in, PointCloud* cloud, ReadReport* report) {
   cloud->clear();
   report->format = Format::kPcd;
   PcdHeader header;
-  Status status = parse_header(in, &header);
+  Status status = parse_pcd_header(in, &header);
   if (!status.ok()) return status;
   report->encoding = data_name(header.data);
   PointSink sink(cloud);

@@ -2,11 +2,12 @@
 // binary_big_endian).
 //
 // The header is parsed fully (format, elements, scalar and list properties, comment/obj_info,
-// LF or CRLF line ends). The body is walked element by element in header order, so elements
-// before and after "vertex" (faces with list properties, ...) are skipped exactly; in the vertex
-// element the properties x, y, z (any numeric type) are read as double and every other property,
-// including list properties, is skipped. Every count is checked against the bytes left BEFORE
-// anything is allocated, and the data must end exactly where the header says it does.
+// LF or CRLF line ends; a UTF-8 byte-order mark before "ply" is skipped). The body is walked
+// element by element in header order, so elements before and after "vertex" (faces with list
+// properties, ...) are skipped exactly; in the vertex element the properties x, y, z (any numeric
+// type) are read as double and every other property, including list properties, is skipped. Every
+// count is checked against the bytes left BEFORE anything is allocated, and the data must end
+// exactly where the header says it does.
 #include <string>
 #include <vector>
 
@@ -66,7 +67,7 @@ const char kKnownTypes[] =
     "float64";
 
 Status parse_header(const Input& in, PlyHeader* header) {
-  LineCursor cursor(in.data, in.size);
+  LineCursor cursor(in.data, in.size, utf8_bom_size(in.data, in.size));
   std::string_view line;
   if (!cursor.next(&line) || line != "ply") {
     return parse_error(in, "not a PLY file: line 1 should be 'ply', saw " +

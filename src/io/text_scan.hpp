@@ -46,6 +46,16 @@ class LineCursor {
   bool terminated_ = false;
 };
 
+/// Length of a UTF-8 byte-order mark (EF BB BF) at the start of the data: 3, or 0 if there is
+/// none. Editors on Windows write one at the start of text files; every reader skips it.
+inline std::size_t utf8_bom_size(const char* data, std::size_t size) {
+  return size >= 3 && static_cast<unsigned char>(data[0]) == 0xEF &&
+                 static_cast<unsigned char>(data[1]) == 0xBB &&
+                 static_cast<unsigned char>(data[2]) == 0xBF
+             ? 3
+             : 0;
+}
+
 /// True for ' ', '\t', '\r', '\v', '\f' (the separators inside a line).
 inline bool is_blank_char(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';

@@ -22,6 +22,8 @@ constexpr double kRotationTolerance = 1e-6;
 constexpr double kLastRowTolerance = 1e-9;
 // A transform file is a few hundred bytes; anything far larger is not one.
 constexpr std::size_t kMaxTransformFileBytes = 1 << 20;
+constexpr detail::ReadLimits kTransformLimits{kMaxTransformFileBytes, kMaxTransformFileBytes,
+                                              "a 4x4 matrix"};
 
 std::string number_text(double v) {
   char buffer[detail::kMaxDoubleChars];
@@ -72,7 +74,7 @@ Status parse_transform(const std::string& name, const char* data, std::size_t si
   }
   double values[16];
   std::size_t count = 0;
-  detail::LineCursor cursor(data, size);
+  detail::LineCursor cursor(data, size, detail::utf8_bom_size(data, size));
   std::string_view line;
   while (cursor.next(&line)) {
     const std::size_t hash = line.find('#');
@@ -138,7 +140,7 @@ Status read_transform(const std::string& path, Eigen::Isometry3d* T) {
       return Status(StatusCode::kInvalidArgument, path + ": null output transform");
     }
     std::string bytes;
-    Status status = detail::read_file_bytes(path, &bytes);
+    Status status = detail::read_file_bytes(path, kTransformLimits, &bytes);
     if (!status.ok()) return status;
     return parse_transform(path, bytes.data(), bytes.size(), T);
   });
