@@ -1,13 +1,15 @@
 // synthetic.hpp - ppcr_synthetic: procedural scenes scanned by a simulated spinning lidar, with
 // an exact ground-truth transform between the two scans.
 //
-// A scene (an indoor room or an outdoor street) is a union of analytic primitives: rectangles,
-// oriented boxes, spheres and capped cylinders, laid out procedurally from a seed. It is scanned
-// from two sensor poses by casting one ray per (beam, azimuth step): a ray returns the first
-// surface it meets within [min_range, max_range]; rays that meet nothing return nothing. So the
-// two scans overlap partially, occlude differently, and have the range-dependent density and the
-// ring pattern of a real lidar. Gaussian noise is added to each range (along the ray), and
-// uniform outliers can be added.
+// A scene (an indoor room, an outdoor street or a tabletop of objects) is a union of analytic
+// primitives: rectangles, oriented boxes, spheres and capped cylinders, laid out procedurally
+// from a seed. It is scanned from two sensor poses by casting one ray per (beam, azimuth step) of
+// a spinning lidar, or per pixel of a depth camera: a ray returns the first surface it meets
+// within [min_range, max_range]; rays that meet nothing return nothing. So the two scans overlap
+// partially, occlude differently, and have the range-dependent density and the ring (or pixel)
+// pattern of a real sensor. Range noise is added along each ray: constant Gaussian, and/or
+// Gaussian proportional to the range; depths can be quantised like a structured-light or
+// time-of-flight camera's (steps growing with depth squared); uniform outliers can be added.
 //
 // Determinism: the output depends only on the options (never on time, threads or global
 // state). Random numbers come from std::mt19937_64 (fully specified by the C++ standard) turned
@@ -41,19 +43,38 @@ enum class SceneKind {
   /// gaps between them and facade relief (pilasters, ledges), parked cars (two boxes each), poles
   /// with lamps, and trees (sphere crowns on cylinder trunks). The sensors move along the road.
   kStreet,
+  /// A tabletop: a 1.2 m x 0.9 m table top (z = 0) with seven objects standing or lying on it
+  /// within 0.4 m of its centre, 3 to 30 cm in size: three boxes (one tall) at random yaw, an
+  /// upright can, a lying cylinder and two balls. Seen from 0.6 to 1.8 m, from above the table,
+  /// by sensors looking at its centre (see ScanOptions::rotation_deg).
+  kObjects,
 };
 
-/// "room" or "street".
+/// "room", "street" or "objects".
 const char* to_string(SceneKind kind);
 
 /// Largest distance between the two sensor positions a scene accepts (ScanOptions::translation_m),
-/// in metres: 3 for the room, 30 for the street (the sensors must stay in the free space).
+/// in metres: 3 for the room, 30 for the street (the sensors must stay in the free space), 0.6
+/// for the objects.
 double max_translation_m(SceneKind kind);
 
 /// A spinning multi-beam lidar. Sensor frame: origin at the optical centre, x forward, y left,
 /// z up (the spin axis). Beam b of B has elevation fov_down + b (fov_up - fov_down) / (B - 1)
 /// (the mean of the two when B = 1); azimuth step k of K is at 360 k / K degrees.
 /// The defaults resemble a 32-beam automotive lidar: 32 x 1024 = 32768 rays per scan.
+///
+/// With horizontal_fov_deg < 360 the spinning lidar sweeps only the azimuths in
+/// [-fov/2, fov/2], from left to right (step k of K at (1/2 - (k + 1/2) / K) fov). With
+/// Projection::kPinhole the sensor is a depth camera looking along x: an image of horizontal_steps
+/// columns x beams rows whose pixel centres are evenly spaced on the image plane x = 1, spanning
+/// [-tan(fov/2), tan(fov/2)] in y (horizontal_fov_deg < 180; column 0 on the left, +y) and
+/// [tan(fov_down), tan(fov_up)] in z (both in (-90, 90); row 0 at the bottom); see
+/// depth_camera() for a preset. Returns are in column-major order.
+enum class Projection {
+  kSpinning,  // equiangular beams and azimuth steps (a lidar)
+  kPinhole,   // a regular pixel grid on an image plane (a depth camera)
+};
+
 struct SensorModel {
   int beams = 32;               // vertical channels, [1, 1024]
   int horizontal_steps = 1024;  // azimuth samples per revolution, [1, 36000] (0.35 deg step)
@@ -61,7 +82,15 @@ struct SensorModel {
   double fov_down_deg = -25.0;  // elevation of the lowest beam, degrees, < fov_up_deg
   double min_range = 0.3;       // metres, >= 0: closer hits are dropped (not returned)
   double max_range = 80.0;      // metres, > min_range, <= 10000: farther hits are not returned
+  Projection projection = Projection::kSpinning;
+  /// Horizontal field of view, degrees: (0, 360] for kSpinning (360: a full revolution, the
+  /// azimuths of the paragraph above), (0, 180) for kPinhole.
+  double horizontal_fov_deg = 360.0;
 };
+
+/// A structured-light / time-of-flight depth camera like a Kinect: pinhole, 58 x 45 degrees,
+/// columns x rows pixels, depths from 0.4 to max_range metres.
+SensorModel depth_camera(int columns = 320, int rows = 240, double max_range = 4.5);
 
 struct ScanOptions {
   SceneKind scene = SceneKind::kRoom;
@@ -73,6 +102,17 @@ struct ScanOptions {
   /// Standard deviation of the zero-mean Gaussian noise added to each measured range, metres
   /// (the point moves along its ray), >= 0.
   double noise_sigma = 0.0;
+  /// Range-proportional noise: with a = noise_per_metre > 0 the Gaussian range noise of a return
+  /// at true range r has standard deviation sqrt(noise_sigma^2 + (a r)^2) (a r alone when
+  /// noise_sigma = 0), dimensionless, >= 0.
+  double noise_per_metre = 0.0;
+  /// Depth quantisation q, 1/metres, >= 0 (0 = off): a depth camera measures disparity, which
+  /// is quantised uniformly, so the depth d (the distance along the optical axis x with
+  /// Projection::kPinhole, the range with kSpinning), after the range noise, becomes the nearest
+  /// level 1 / (q k), k a positive integer (the point stays on its ray). Consecutive levels near
+  /// d are q d^2 apart (1 / (q k (k + 1)) exactly): 3 mm at 1 m and 4.8 cm at 4 m for
+  /// q = 0.003, about a Kinect's. Returns whose depth rounds to k = 0 (beyond 2 / q) are dropped.
+  double depth_quantisation = 0.0;
   /// Fraction of each output cloud made of outliers, in [0, 0.95]. Outliers are ADDED to the
   /// returns (none is replaced): round(n f / (1 - f)) points for n returns, drawn uniformly in
   /// the intersection of the scene's bounding box with the cube of half side max_range around
@@ -80,10 +120,13 @@ struct ScanOptions {
   double outlier_fraction = 0.0;
   /// Angle of the rotation between the two sensor poses, degrees, in [0, 180]. Its axis is drawn
   /// from the seed, tilted from the vertical by up to 10 degrees (so all three rotation
-  /// components are non-zero in general); its sign is drawn too.
+  /// components are non-zero in general); its sign is drawn too. For the objects scene the
+  /// target sensor looks at the table's centre and the axis is tilted from its own z axis; the
+  /// sign turns the source sensor toward the objects (against its sideways displacement).
   double rotation_deg = 15.0;
   /// Distance between the two sensor positions, metres, in [0, max_translation_m(scene)]. The
-  /// direction is drawn from the seed: any horizontal azimuth in the room, along the road
+  /// direction is drawn from the seed: any horizontal azimuth in the room and the objects scene,
+  /// along the road
   /// (within 5 degrees) in the street; elevation within +-3 degrees. The two positions are
   /// placed symmetrically about a seeded point of the scene's free space.
   double translation_m = 1.5;

@@ -76,18 +76,49 @@ Status check_sensor(const SensorModel& s) {
         p + "max_range", s.max_range,
         "must be above min_range = " + number(s.min_range) + " and at most 10000 (metres)");
   }
+  if (s.projection != Projection::kSpinning && s.projection != Projection::kPinhole) {
+    return invalid(p + "projection", static_cast<int>(s.projection),
+                   "must be Projection::kSpinning or Projection::kPinhole");
+  }
+  if (s.projection == Projection::kSpinning) {
+    if (!(s.horizontal_fov_deg > 0.0 && s.horizontal_fov_deg <= 360.0)) {
+      return invalid(p + "horizontal_fov_deg", s.horizontal_fov_deg,
+                     "must be in (0, 360] degrees for a spinning sensor");
+    }
+    return Status::Ok();
+  }
+  if (!(s.horizontal_fov_deg > 0.0 && s.horizontal_fov_deg < 180.0)) {
+    return invalid(p + "horizontal_fov_deg", s.horizontal_fov_deg,
+                   "must be in (0, 180) degrees for a depth camera (Projection::kPinhole)");
+  }
+  if (!(std::abs(s.fov_up_deg) < 90.0)) {
+    return invalid(p + "fov_up_deg", s.fov_up_deg,
+                   "must be in (-90, 90) degrees for a depth camera (Projection::kPinhole)");
+  }
+  if (!(std::abs(s.fov_down_deg) < 90.0)) {
+    return invalid(p + "fov_down_deg", s.fov_down_deg,
+                   "must be in (-90, 90) degrees for a depth camera (Projection::kPinhole)");
+  }
   return Status::Ok();
 }
 
 Status check_options(const ScanOptions& o) {
-  if (o.scene != SceneKind::kRoom && o.scene != SceneKind::kStreet) {
+  if (o.scene != SceneKind::kRoom && o.scene != SceneKind::kStreet &&
+      o.scene != SceneKind::kObjects) {
     return invalid("ScanOptions.scene", static_cast<int>(o.scene),
-                   "must be SceneKind::kRoom or SceneKind::kStreet");
+                   "must be SceneKind::kRoom, kStreet or kObjects");
   }
   Status status = check_sensor(o.sensor);
   if (!status.ok()) return status;
   if (!(o.noise_sigma >= 0.0 && std::isfinite(o.noise_sigma))) {
     return invalid("ScanOptions.noise_sigma", o.noise_sigma, "must be finite and >= 0 (metres)");
+  }
+  if (!(o.noise_per_metre >= 0.0 && o.noise_per_metre <= 1.0)) {
+    return invalid("ScanOptions.noise_per_metre", o.noise_per_metre, "must be in [0, 1]");
+  }
+  if (!(o.depth_quantisation >= 0.0 && o.depth_quantisation <= 1000.0)) {
+    return invalid("ScanOptions.depth_quantisation", o.depth_quantisation,
+                   "must be in [0, 1000] (1/metres)");
   }
   if (!(o.outlier_fraction >= 0.0 && o.outlier_fraction <= kMaxOutlierFraction)) {
     return invalid("ScanOptions.outlier_fraction", o.outlier_fraction, "must be in [0, 0.95]");
@@ -110,6 +141,9 @@ Status check_options(const ScanOptions& o) {
 // between the positions (drawn in the scene frame, see ScanOptions::translation_m) expressed in
 // the target frame. The positions are symmetric about the layout's sensor midpoint. All the
 // numbers are drawn whatever the options, so that a seed always gives the same directions.
+// A layout whose sensors look at a point (the objects): the target looks at it (x toward it, y
+// horizontal, no roll) instead of being level, and the rotation's sign turns the source toward
+// it: against the source's sideways displacement (its y in the target frame).
 void make_poses(const internal::Scene& scene, const ScanOptions& options, ScanPair* pair) {
   Rng rng(options.seed, Stream::kPoses);
   const double yaw = rng.uniform(0.0, 2.0 * Rng::kPi);
@@ -131,10 +165,21 @@ void make_poses(const internal::Scene& scene, const ScanOptions& options, ScanPa
   Eigen::Isometry3d world_T_target = Eigen::Isometry3d::Identity();
   world_T_target.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   world_T_target.translation() = scene.sensor_zone.midpoint - 0.5 * displacement;
+  double sign = rotation_sign;
+  if (scene.sensor_zone.looks_at) {
+    const Eigen::Vector3d forward =
+        (scene.sensor_zone.look_at - world_T_target.translation()).normalized();
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward).normalized();
+    world_T_target.linear().col(0) = forward;
+    world_T_target.linear().col(1) = left;
+    world_T_target.linear().col(2) = forward.cross(left);
+    const double sideways = world_T_target.linear().col(1).dot(displacement);
+    if (sideways != 0.0) sign = sideways > 0.0 ? -1.0 : 1.0;
+  }
 
   Eigen::Isometry3d target_T_source = Eigen::Isometry3d::Identity();
   target_T_source.linear() =
-      Eigen::AngleAxisd(rotation_sign * options.rotation_deg * kDegree, axis).toRotationMatrix();
+      Eigen::AngleAxisd(sign * options.rotation_deg * kDegree, axis).toRotationMatrix();
   target_T_source.translation() = world_T_target.linear().transpose() * displacement;
 
   pair->T_target_source = target_T_source;
@@ -168,6 +213,19 @@ void add_outliers(const internal::Scene& scene, const ScanOptions& options,
 
 }  // namespace
 
+SensorModel depth_camera(int columns, int rows, double max_range) {
+  SensorModel camera;
+  camera.projection = Projection::kPinhole;
+  camera.horizontal_steps = columns;
+  camera.beams = rows;
+  camera.horizontal_fov_deg = 58.0;
+  camera.fov_up_deg = 22.5;
+  camera.fov_down_deg = -22.5;
+  camera.min_range = 0.4;
+  camera.max_range = max_range;
+  return camera;
+}
+
 Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
   if (out == nullptr) {
     return Status(StatusCode::kInvalidArgument, "make_scan_pair: out is null");
@@ -179,13 +237,15 @@ Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
     ScanPair pair;
     make_poses(scene, options, &pair);
 
+    internal::RangeNoise noise;
+    noise.sigma = options.noise_sigma;
+    noise.per_metre = options.noise_per_metre;
+    noise.quantisation = options.depth_quantisation;
     Rng source_noise(options.seed, Stream::kSourceNoise);
-    internal::scan(scene, options.sensor, pair.T_world_source, options.noise_sigma, &source_noise,
-                   &pair.source);
+    internal::scan(scene, options.sensor, pair.T_world_source, noise, &source_noise, &pair.source);
     pair.source_returns = pair.source.size();
     Rng target_noise(options.seed, Stream::kTargetNoise);
-    internal::scan(scene, options.sensor, pair.T_world_target, options.noise_sigma, &target_noise,
-                   &pair.target);
+    internal::scan(scene, options.sensor, pair.T_world_target, noise, &target_noise, &pair.target);
     pair.target_returns = pair.target.size();
 
     Rng source_outliers(options.seed, Stream::kSourceOutliers);

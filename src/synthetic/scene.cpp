@@ -61,7 +61,15 @@ void Scene::finalize() {
 }
 
 Scene make_scene(SceneKind kind, std::uint64_t seed) {
-  return kind == SceneKind::kStreet ? make_street(seed) : make_room(seed);
+  switch (kind) {
+    case SceneKind::kStreet:
+      return make_street(seed);
+    case SceneKind::kObjects:
+      return make_objects(seed);
+    case SceneKind::kRoom:
+      break;
+  }
+  return make_room(seed);
 }
 
 }  // namespace internal
@@ -72,13 +80,22 @@ const char* to_string(SceneKind kind) {
       return "room";
     case SceneKind::kStreet:
       return "street";
+    case SceneKind::kObjects:
+      return "objects";
   }
   return "unknown";
 }
 
 double max_translation_m(SceneKind kind) {
-  return kind == SceneKind::kStreet ? internal::kStreetMaxTranslation
-                                    : internal::kRoomMaxTranslation;
+  switch (kind) {
+    case SceneKind::kStreet:
+      return internal::kStreetMaxTranslation;
+    case SceneKind::kObjects:
+      return internal::kObjectsMaxTranslation;
+    case SceneKind::kRoom:
+      break;
+  }
+  return internal::kRoomMaxTranslation;
 }
 
 }  // namespace synthetic

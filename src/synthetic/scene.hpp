@@ -22,6 +22,10 @@ struct SensorZone {
   Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();  // halfway between the two positions
   double max_translation = 0.0;  // metres: the positions stay in free space up to this distance
   bool along_x = false;          // true: move along the scene's x axis (a road), else any azimuth
+  /// true: the target sensor looks at look_at (x toward it, y horizontal), else it is level at a
+  /// seeded yaw.
+  bool looks_at = false;
+  Eigen::Vector3d look_at = Eigen::Vector3d::Zero();
 };
 
 struct Scene {
@@ -45,10 +49,12 @@ struct Scene {
 Scene make_scene(SceneKind kind, std::uint64_t seed);
 Scene make_room(std::uint64_t seed);
 Scene make_street(std::uint64_t seed);
+Scene make_objects(std::uint64_t seed);
 
 /// Limits shared by the layouts and the option checks.
 constexpr double kRoomMaxTranslation = 3.0;     // metres
 constexpr double kStreetMaxTranslation = 30.0;  // metres
+constexpr double kObjectsMaxTranslation = 0.6;  // metres
 
 }  // namespace internal
 }  // namespace synthetic

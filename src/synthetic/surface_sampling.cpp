@@ -96,11 +96,12 @@ bool touches_other_solid(const Scene& scene, const Eigen::Vector3d& p, const Sur
 
 Status sample_surface(const SurfaceSampleOptions& options, PointCloud* out) {
   if (out == nullptr) return Status(StatusCode::kInvalidArgument, "sample_surface: out is null");
-  if (options.scene != SceneKind::kRoom && options.scene != SceneKind::kStreet) {
+  if (options.scene != SceneKind::kRoom && options.scene != SceneKind::kStreet &&
+      options.scene != SceneKind::kObjects) {
     return Status(
         StatusCode::kInvalidArgument,
         "SurfaceSampleOptions.scene = " + std::to_string(static_cast<int>(options.scene)) +
-            ": must be SceneKind::kRoom or SceneKind::kStreet");
+            ": must be SceneKind::kRoom, kStreet or kObjects");
   }
   if (options.count < 1 || options.count > kMaxCount) {
     return Status(StatusCode::kInvalidArgument,

@@ -113,6 +113,33 @@ TEST_CASE("ppcr_synth writes the pair, its ground truth and benchmark problems",
   CHECK(count == 7);
 }
 
+TEST_CASE("ppcr_synth: the objects scene seen by the depth camera, with its noise models",
+          "[synthetic][tool]") {
+  const std::string dir = std::string(PPCR_SYNTH_TEST_DIR) + "/objects";
+  const std::string log = std::string(PPCR_SYNTH_TEST_DIR) + "_objects.log";
+  std::filesystem::create_directories(PPCR_SYNTH_TEST_DIR);
+  // The camera preset, one flag overriding it; --translation defaults to 0.3 for the objects.
+  REQUIRE(run_tool("'" + dir +
+                       "' --scene objects --sensor camera --steps 160 --seed 4 --noise 0.001 "
+                       "--noise-per-metre 0.002 --depth-quantisation 0.003 --problems 2",
+                   log) == 0);
+  ppcr::synthetic::ScanOptions options;
+  options.scene = ppcr::synthetic::SceneKind::kObjects;
+  options.seed = 4;
+  options.sensor = ppcr::synthetic::depth_camera(160, 240);
+  options.noise_sigma = 0.001;
+  options.noise_per_metre = 0.002;
+  options.depth_quantisation = 0.003;
+  options.translation_m = 0.3;
+  ppcr::synthetic::ScanPair pair;
+  REQUIRE(ppcr::synthetic::make_scan_pair(options, &pair).ok());
+  CHECK(read(dir + "/source.ply") == pair.source);
+  CHECK(read(dir + "/target.ply") == pair.target);
+  Eigen::Isometry3d gt;
+  REQUIRE(ppcr::io::read_transform(dir + "/ground_truth.txt", &gt).ok());
+  CHECK(gt.matrix() == pair.T_target_source.matrix());
+}
+
 TEST_CASE("ppcr_synth rejects bad arguments with one line naming them", "[synthetic][tool]") {
   const std::string dir = std::string(PPCR_SYNTH_TEST_DIR) + "/bad";
   const std::string log = std::string(PPCR_SYNTH_TEST_DIR) + "_bad.log";
@@ -130,6 +157,11 @@ TEST_CASE("ppcr_synth rejects bad arguments with one line naming them", "[synthe
       {"--seed -3", {"--seed", "-3"}},
       {"--noise abc", {"--noise", "abc"}},
       {"--max-problem-rotation 200", {"--max-problem-rotation", "200"}},
+      {"--noise-per-metre -0.5", {"--noise-per-metre", "-0.5"}},
+      {"--depth-quantisation -1", {"--depth-quantisation", "-1"}},
+      {"--sensor camera --hfov 200", {"--hfov", "200"}},
+      {"--sensor sonar", {"--sensor", "sonar"}},
+      {"--scene objects --translation 1", {"--translation", "1"}},
   };
   for (const Case& c : cases) {
     INFO(c.arguments);

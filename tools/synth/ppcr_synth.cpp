@@ -1,11 +1,16 @@
-// ppcr_synth - renders a synthetic scene (room or street) scanned by a simulated lidar from two
-// poses, with the exact ground truth, and a problem file in the point clouds registration
-// benchmark's format.
+// ppcr_synth - renders a synthetic scene (room, street or tabletop objects) scanned by a
+// simulated lidar or depth camera from two poses, with the exact ground truth, and a problem file
+// in the point clouds registration benchmark's format.
 //
-//   ppcr_synth OUT_DIR [--scene room|street] [--seed N] [--noise SIGMA] [--outliers F]
-//              [--rotation DEG] [--translation M] [--beams N] [--steps N] [--fov-up DEG]
-//              [--fov-down DEG] [--min-range M] [--max-range M] [--problems N]
-//              [--max-problem-rotation DEG] [--max-problem-translation M]
+//   ppcr_synth OUT_DIR [--scene room|street|objects] [--seed N] [--noise SIGMA]
+//              [--noise-per-metre A] [--depth-quantisation Q] [--outliers F]
+//              [--rotation DEG] [--translation M] [--sensor lidar|camera] [--beams N] [--steps N]
+//              [--fov-up DEG] [--fov-down DEG] [--hfov DEG] [--min-range M] [--max-range M]
+//              [--problems N] [--max-problem-rotation DEG] [--max-problem-translation M]
+//
+// --sensor camera starts from ppcr::synthetic::depth_camera() (320 x 240 pixels, 58 x 45 degrees,
+// 0.4 to 4.5 m); --beams (rows), --steps (columns), --fov-*, --hfov and --*-range override it.
+// --translation defaults to 0.3 m for the objects scene.
 //
 // Writes into OUT_DIR (created if missing):
 //   source.ply           the source scan, in the source sensor's frame
@@ -19,6 +24,7 @@
 // be written.
 #include <CLI/CLI.hpp>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -54,7 +60,10 @@ std::string with_flag_names(std::string message) {
       {"ScanOptions.sensor.fov_down_deg", "--fov-down"},
       {"ScanOptions.sensor.min_range", "--min-range"},
       {"ScanOptions.sensor.max_range", "--max-range"},
+      {"ScanOptions.sensor.horizontal_fov_deg", "--hfov"},
       {"ScanOptions.noise_sigma", "--noise"},
+      {"ScanOptions.noise_per_metre", "--noise-per-metre"},
+      {"ScanOptions.depth_quantisation", "--depth-quantisation"},
       {"ScanOptions.outlier_fraction", "--outliers"},
       {"ScanOptions.rotation_deg", "--rotation"},
       {"ScanOptions.translation_m", "--translation"},
@@ -117,14 +126,22 @@ int main(int argc, char** argv) {
   double max_problem_translation = 1.0;
 
   CLI::App app{
-      "ppcr_synth: a synthetic scene scanned by a simulated spinning lidar from two poses, with "
-      "the exact ground truth (source.ply, target.ply, ground_truth.txt, source_gt_frame.ply, "
-      "problems.txt in OUT_DIR)",
+      "ppcr_synth: a synthetic scene scanned by a simulated lidar or depth camera from two poses, "
+      "with the exact ground truth (source.ply, target.ply, ground_truth.txt, "
+      "source_gt_frame.ply, problems.txt in OUT_DIR)",
       "ppcr_synth"};
   app.add_option("OUT_DIR", out_dir, "output folder (created if missing)")->required();
   std::string scene = "room";
-  app.add_option("--scene", scene, "room (12 x 9 x 3 m, indoor) or street (160 m, outdoor)")
-      ->check(CLI::IsMember({"room", "street"}))
+  app.add_option("--scene", scene,
+                 "room (12 x 9 x 3 m, indoor), street (160 m, outdoor) or objects (a 1.2 x 0.9 m "
+                 "tabletop seen from 0.6-1.8 m)")
+      ->check(CLI::IsMember({"room", "street", "objects"}))
+      ->capture_default_str();
+  std::string sensor = "lidar";
+  app.add_option("--sensor", sensor,
+                 "lidar (spinning, 360 degrees) or camera (depth camera: pinhole 320 x 240 "
+                 "pixels, 58 x 45 degrees, 0.4-4.5 m; the flags below override it)")
+      ->check(CLI::IsMember({"lidar", "camera"}))
       ->capture_default_str();
   app.add_option("--seed", options.seed, "seeds the layout, the poses, the noise, the outliers")
       ->check(CLI::Validator(
@@ -137,26 +154,48 @@ int main(int argc, char** argv) {
   app.add_option("--noise", options.noise_sigma,
                  "std of the Gaussian range noise along each ray, metres")
       ->capture_default_str();
+  app.add_option("--noise-per-metre", options.noise_per_metre,
+                 "range-proportional noise: std sqrt(noise^2 + (A range)^2) along each ray, "
+                 "[0, 1]")
+      ->capture_default_str();
+  app.add_option("--depth-quantisation", options.depth_quantisation,
+                 "depth-camera quantisation Q, 1/metres: depths become 1 / (Q k), k integer "
+                 "(steps of about Q depth^2; 0.003 is about a Kinect's; 0 = off)")
+      ->capture_default_str();
   app.add_option("--outliers", options.outlier_fraction,
                  "fraction of each cloud made of uniform outliers (added), [0, 0.95]")
       ->capture_default_str();
   app.add_option("--rotation", options.rotation_deg,
                  "rotation angle between the two sensor poses, degrees, [0, 180]")
       ->capture_default_str();
-  app.add_option("--translation", options.translation_m,
-                 "distance between the two sensor positions, metres (room <= 3, street <= 30)")
-      ->capture_default_str();
-  app.add_option("--beams", options.sensor.beams, "lidar vertical channels")->capture_default_str();
-  app.add_option("--steps", options.sensor.horizontal_steps, "lidar azimuth steps per revolution")
-      ->capture_default_str();
-  app.add_option("--fov-up", options.sensor.fov_up_deg, "elevation of the top beam, degrees")
-      ->capture_default_str();
-  app.add_option("--fov-down", options.sensor.fov_down_deg, "elevation of the bottom beam, degrees")
-      ->capture_default_str();
-  app.add_option("--min-range", options.sensor.min_range, "closer hits are dropped, metres")
-      ->capture_default_str();
-  app.add_option("--max-range", options.sensor.max_range, "farther hits are not returned, metres")
-      ->capture_default_str();
+  auto* translation =
+      app.add_option("--translation", options.translation_m,
+                     "distance between the two sensor positions, metres (room <= 3, street <= "
+                     "30, objects <= 0.6; default 0.3 for objects)")
+          ->capture_default_str();
+  ppcr::synthetic::SensorModel given;  // the flags' values, applied over the --sensor preset
+  auto* beams = app.add_option("--beams", given.beams, "lidar vertical channels (camera: rows)")
+                    ->capture_default_str();
+  auto* steps = app.add_option("--steps", given.horizontal_steps,
+                               "lidar azimuth steps per revolution (camera: columns)")
+                    ->capture_default_str();
+  auto* fov_up = app.add_option("--fov-up", given.fov_up_deg,
+                                "elevation of the top beam (camera: of the top edge), degrees")
+                     ->capture_default_str();
+  auto* fov_down =
+      app.add_option("--fov-down", given.fov_down_deg,
+                     "elevation of the bottom beam (camera: of the bottom edge), degrees")
+          ->capture_default_str();
+  auto* hfov = app.add_option("--hfov", given.horizontal_fov_deg,
+                              "horizontal field of view, degrees: (0, 360] for the lidar (360 = "
+                              "a full turn), (0, 180) for the camera (58)")
+                   ->capture_default_str();
+  auto* min_range =
+      app.add_option("--min-range", given.min_range, "closer hits are dropped, metres (camera 0.4)")
+          ->capture_default_str();
+  auto* max_range = app.add_option("--max-range", given.max_range,
+                                   "farther hits are not returned, metres (camera 4.5)")
+                        ->capture_default_str();
   app.add_option("--problems", problems, "benchmark problems to write in problems.txt")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
@@ -179,7 +218,24 @@ int main(int argc, char** argv) {
     return fail(2, std::string(e.what()) + " (see --help)");
   }
 
-  options.scene = scene == "street" ? SceneKind::kStreet : SceneKind::kRoom;
+  options.scene = scene == "street"    ? SceneKind::kStreet
+                  : scene == "objects" ? SceneKind::kObjects
+                                       : SceneKind::kRoom;
+  if (options.scene == SceneKind::kObjects && translation->count() == 0) {
+    options.translation_m = 0.3;
+  }
+  if (sensor == "camera") options.sensor = ppcr::synthetic::depth_camera();
+  if (sensor == "lidar" || beams->count() > 0) options.sensor.beams = given.beams;
+  if (sensor == "lidar" || steps->count() > 0) {
+    options.sensor.horizontal_steps = given.horizontal_steps;
+  }
+  if (sensor == "lidar" || fov_up->count() > 0) options.sensor.fov_up_deg = given.fov_up_deg;
+  if (sensor == "lidar" || fov_down->count() > 0) options.sensor.fov_down_deg = given.fov_down_deg;
+  if (sensor == "lidar" || hfov->count() > 0) {
+    options.sensor.horizontal_fov_deg = given.horizontal_fov_deg;
+  }
+  if (sensor == "lidar" || min_range->count() > 0) options.sensor.min_range = given.min_range;
+  if (sensor == "lidar" || max_range->count() > 0) options.sensor.max_range = given.max_range;
   ppcr::synthetic::ScanPair pair;
   const ppcr::Status status = ppcr::synthetic::make_scan_pair(options, &pair);
   if (!status.ok()) return fail(2, with_flag_names(status.message()));
@@ -191,7 +247,19 @@ int main(int argc, char** argv) {
   const ppcr::PointCloud target_returns(
       pair.target.begin(), pair.target.begin() + static_cast<std::ptrdiff_t>(pair.target_returns));
   const double spacing = ppcr_synth::scan_spacing(target_returns);
-  const double radius = 3.0 * options.noise_sigma + spacing;
+  double radius = 3.0 * options.noise_sigma + spacing;
+  if (options.noise_per_metre > 0.0 || options.depth_quantisation > 0.0) {
+    // The range-dependent terms at the target's median range.
+    std::vector<double> ranges;
+    ranges.reserve(target_returns.size());
+    for (const Eigen::Vector3d& p : target_returns) ranges.push_back(p.norm());
+    double median = 0.0;
+    if (!ranges.empty()) {
+      std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+      median = ranges[ranges.size() / 2];
+    }
+    radius += 3.0 * options.noise_per_metre * median + options.depth_quantisation * median * median;
+  }
   const double overlap =
       ppcr_synth::overlap_fraction(pair.source, pair.T_target_source, pair.target, radius);
 
