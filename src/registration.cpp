@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "alignment_quality.hpp"
 #include "associator.hpp"
 #include "cloud_preparation.hpp"
 #include "degeneracy.hpp"
@@ -95,6 +96,7 @@ struct Registration::Impl {
   detail::SpatialSortScratch sort_scratch;
   detail::Associator associator;
   detail::LMSolver lm;
+  std::vector<double> quality_scratch;
 
   struct Run;
   Status check_input(const Eigen::Isometry3d& T_initial) const;
@@ -107,7 +109,7 @@ struct Registration::Impl {
                          const TerminationMonitor& monitor, const Eigen::Isometry3d& T,
                          Clock::time_point start) const;
   void summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
-                 RegistrationResult* result) const;
+                 RegistrationResult* result);
 };
 
 Registration::Registration(const RegistrationOptions& options) : impl_(new Impl) {
@@ -336,7 +338,7 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
 // surfaces leave free (judged on the target's normals also with source normals: the null
 // directions are the surfaces', whatever normal the pairs use).
 void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
-                                   RegistrationResult* result) const {
+                                   RegistrationResult* result) {
   if (reason == StopReason::kNumericalFailure) {
     result->status = Status(StatusCode::kNumericalFailure,
                             "non-finite cost or step in outer iteration " +
@@ -345,7 +347,17 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   result->stop_reason = reason;
   result->scale = std::sqrt(run.scale.scale_sq());
   result->information = lm.last().H;
-  if (options.error_model != ErrorModel::kPlane || result->iterations == 0) return;
+  if (result->iterations == 0) return;
+  const Clock::time_point start = Clock::now();
+  const bool source_indexed = options.error_model == ErrorModel::kPlane && options.expert.source_normals;
+  const detail::AlignmentQuality q = detail::measure_alignment(
+      tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
+      options.radius, options.num_threads, &quality_scratch);
+  result->fitness = q.fitness;
+  result->inlier_rmse = q.inlier_rmse;
+  result->overlap = q.overlap;
+  result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  if (options.error_model != ErrorModel::kPlane) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
       associator.points(), associator.table(), T, lm.weights().data(), target_plane_points);
   const double rms = std::sqrt(std::max(run.moments.covariance.trace(), 1e-300));

@@ -179,10 +179,11 @@ ppcr::Status write_outputs(const Arguments& a, const Inputs& in,
 void print_summary(const ppcr::RegistrationResult& result, double time_ms,
                    const ppcr::PoseErrors* gt) {
   std::fprintf(stderr,
-               "ppcr_cli: %s after %d iterations (%s), %.1f ms, %zu/%zu source points matched",
+               "ppcr_cli: %s after %d iterations (%s), %.1f ms; fitness %.4f, inlier RMSE %.6g, "
+               "overlap %.4f",
                result.converged() ? "converged" : "stopped", result.iterations,
-               ppcr::to_string(result.stop_reason), time_ms, result.matched_source_points,
-               result.source_points);
+               ppcr::to_string(result.stop_reason), time_ms, result.fitness, result.inlier_rmse,
+               result.overlap);
   if (gt != nullptr) {
     std::fprintf(stderr, "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
                  gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);

@@ -82,6 +82,13 @@ struct RegistrationResult {
   /// the largest): 3 for a plane, 2 for a cylinder, 3 for a sphere, 0 for well-constrained
   /// geometry. Point model: -1 (not assessed).
   int degenerate_directions = -1;
+  /// How well the clouds agree at the final pose, measured after the last iteration on the
+  /// registered (filtered) clouds, with the association radius (Open3D's definitions):
+  double fitness = 0.0;      // fraction of source points with a target point within the radius
+  double inlier_rmse = 0.0;  // RMS distance of those points to their nearest target point
+  double overlap = 0.0;      // the matched fraction both ways: min(fitness, target's fraction);
+                             // fitness when no source index exists (source normals off)
+  double quality_ms = 0.0;   // wall time of these measures (not part of the loop)
   std::vector<IterationRecord> history;
 
   /// True when a termination criterion stopped the loop (not the cap, not a failure).

@@ -1291,3 +1291,43 @@ TEST_CASE("after the change to the fine phase's tolerance the inner LM evaluates
     CHECK(h.cost_drop > 0.0);
   }
 }
+
+TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[registration]") {
+  for (bool source_normals : {false, true}) {
+    INFO("source normals " << source_normals);
+    const Scene sc = make_scene(2000, 8000, false);
+    RegistrationOptions o = scene_options();
+    o.expert.source_normals = source_normals;
+    const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+    REQUIRE(r.status.ok());
+    const double radius_sq = o.radius * o.radius;
+    // Nearest target point within the radius of each moved source point, and back.
+    auto matched = [&](const PointCloud& from, const PointCloud& to, const Eigen::Isometry3d& T,
+                       double* sum_sq) {
+      std::size_t count = 0;
+      for (const Eigen::Vector3d& x : from) {
+        double best = HUGE_VAL;
+        for (const Eigen::Vector3d& y : to) best = std::min(best, (y - T * x).squaredNorm());
+        if (best <= radius_sq) ++count, *sum_sq += best;
+      }
+      return count;
+    };
+    double sum_sq = 0.0, unused = 0.0;
+    const std::size_t n = matched(sc.source, sc.target, r.T_target_source, &sum_sq);
+    CHECK(r.fitness == Approx(static_cast<double>(n) / sc.source.size()).epsilon(1e-12));
+    CHECK(r.inlier_rmse == Approx(std::sqrt(sum_sq / n)).epsilon(1e-9));
+    const std::size_t back = matched(sc.target, sc.source, r.T_target_source.inverse(), &unused);
+    const double both = std::min(r.fitness, static_cast<double>(back) / sc.target.size());
+    CHECK(r.overlap == Approx(source_normals ? both : r.fitness).epsilon(1e-12));
+    CHECK(r.fitness > 0.9);  // a correct registration of overlapping samples
+    CHECK(r.quality_ms >= 0.0);
+  }
+  // A registration that found nothing measures nothing.
+  const Scene sc = make_scene(500, 2000, false);
+  RegistrationOptions o = scene_options();
+  Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
+  far.translation() << 50, 0, 0;
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o, far);
+  CHECK(r.fitness == 0.0);
+  CHECK(r.inlier_rmse == 0.0);
+}

@@ -41,7 +41,18 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["target_points"] = r.target_points;
   j["source_non_finite"] = r.source_non_finite;
   j["target_non_finite"] = r.target_non_finite;
+  j["fitness"] = r.fitness;
+  j["inlier_rmse"] = r.inlier_rmse;
+  j["overlap"] = r.overlap;
+  j["quality_ms"] = r.quality_ms;
   j["degenerate_directions"] = r.degenerate_directions;
+  nlohmann::ordered_json information = nlohmann::ordered_json::array();
+  for (int i = 0; i < 6; ++i) {
+    nlohmann::ordered_json row = nlohmann::ordered_json::array();
+    for (int c = 0; c < 6; ++c) row.push_back(r.information(i, c));
+    information.push_back(row);
+  }
+  j["information"] = information;
   if (gt != nullptr) {
     j["rotation_error_deg"] = gt->rotation_error_deg;
     j["translation_error"] = gt->translation_error;
