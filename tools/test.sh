@@ -5,9 +5,11 @@
 #   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz, fma)
 #   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
 #                                                      nanoflann (downloads it; not a default)
-# Every test runs in the release stage, the real-scan ones included. The sanitize and fma stages
-# run every test that needs no real data (the real-scan cases exercise the same code on bigger
-# clouds, already run once); the fuzz stage runs each fuzzer for a bounded time.
+# Every test runs in the release stage, the real-scan ones included. The sanitize stage runs the
+# library's tests that need no real data (the real-scan cases exercise the same code on bigger
+# clouds, already run once; the tools' code is fuzzed through the readers and parsed in release);
+# the fma stage the core's and readers' tests (the exact equalities); the fuzz stage runs each
+# fuzzer for a bounded time.
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,8 +18,9 @@ cd "$root"
 jobs=${PPCR_JOBS:-2}
 stages=${PPCR_TEST_STAGES:-release sanitize fuzz fma}
 
-# build_and_test DIR BUILD_TYPE CTEST_ARGS [cmake arguments...]: configures the tests and tools
-# in DIR, builds them and runs the tests ctest selects with CTEST_ARGS (a string).
+# build_and_test DIR BUILD_TYPE CTEST_ARGS [cmake arguments...]: configures the tests (and the
+# tools, unless an argument turns them off) in DIR, builds them and runs the tests ctest selects
+# with CTEST_ARGS (a string).
 build_and_test() {
   local dir=$1 build_type=$2 ctest_args=$3
   shift 3
@@ -38,7 +41,8 @@ for stage in $stages; do
     sanitize)
       echo "== sanitize: the tests without real data under AddressSanitizer + UndefinedBehaviorSanitizer"
       ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-        build_and_test build/test-asan RelWithDebInfo "-LE real_data" -DPPCR_SANITIZE=ON
+        build_and_test build/test-asan RelWithDebInfo "-LE real_data" -DPPCR_SANITIZE=ON \
+          -DPPCR_BUILD_TOOLS=OFF
       ;;
     fuzz)
       echo "== fuzz: bounded libFuzzer runs (clang, ASan + UBSan), ${PPCR_FUZZ_SECONDS:-30} s per target"
@@ -60,7 +64,8 @@ for stage in $stages; do
       done
       if [[ -z $missing ]]; then
         echo "== fma: build with -march=haswell and run the tests without real data"
-        build_and_test build/test-fma Release "-LE real_data" -DCMAKE_CXX_FLAGS=-march=haswell
+        build_and_test build/test-fma Release "-LE real_data" -DCMAKE_CXX_FLAGS=-march=haswell \
+          -DPPCR_BUILD_TOOLS=OFF -DPPCR_BUILD_SYNTHETIC=OFF
       else
         echo "== fma: skipped, not an x86-64 CPU with Haswell's extensions (missing:$missing)"
       fi
