@@ -3,17 +3,17 @@
 // tests/reliability/ (which replay saved inputs through this same decoder).
 //
 // Every byte sequence decodes (missing bytes read as 0), and all-zero parameter bytes give the
-// library defaults (radius 1, k 10, dof 5, EM scale, cost-drop criterion, ...) with the caps set
-// to 12. Layout, in order (u8 = one byte, pos = two bytes, see positive()):
+// library defaults (RegistrationOptions()) with the caps set to 12. Layout, in order (u8 = one byte, pos = two bytes, see positive()):
 //   flags0 u8   bit0 plane model, bit1 Gaussian, bits2-3 scale mode (0, 3 EM; 1 raw; 2 fixed),
 //               bit4 two threads, bit5 no history, bit6 target = source moved by T_gt (+ extra
 //               target points), bit7 on_iteration cancels after the 2nd iteration
 //   flags1 u8   bit0 explicit EM coarse scale, bit1 cost_drop_max_motion, bit2
 //               em_coarse_max_motion, bit3 em_min_scale, bit4 source voxel, bit5 target voxel,
-//               bit6 plane.source_normals, bit7 plane.noise_floor (= the em_min_scale value)
+//               bit6 flips source_normals, bit7 flips the noise floor (off, or the em_min_scale
+//               value when the default is off)
 //   criteria u8 (low 4 bits XOR kCriterionCostDrop), max_iterations u8, fixed_iterations u8,
-//   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> 10; 240..255 ->
-//   32 .. 1024), radius pos, dof pos (times 5), scale pos, plane.epsilon u8, normal_neighbours
+//   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> the default; 240..255
+//   -> 32 .. 1024), radius pos, dof pos (times the default), scale pos, plane.epsilon u8, normal_neighbours
 //   u8, cost_drop_patience u8, mse_patience u8, successful_steps_patience u8,
 //   successful_steps_threshold u8, em_coarse_patience u8, em_min_shrink u8, cost_drop_threshold
 //   pos (times 0.01), cost_drop_max_motion pos, em_coarse_max_motion pos, em_min_scale pos,
@@ -206,15 +206,17 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   o.expert.fixed_iterations = small_count(in.u8());
   o.expert.lm_max_iterations = small_count(in.u8());
   const std::uint8_t kb = in.u8();
-  o.max_neighbours = kb < 240 ? 1 + (kb + 9) % 16 : 32 << ((kb - 240) % 6);  // 32 .. 1024
+  const ppcr::RegistrationOptions defaults;
+  o.max_neighbours =
+      kb < 240 ? 1 + (kb + defaults.max_neighbours - 1) % 16 : 32 << ((kb - 240) % 6);  // 32..1024
   o.radius = in.positive();
-  o.dof = 5.0 * in.positive();
+  o.dof = defaults.dof * in.positive();
   const double scale = in.positive();
   if (o.expert.scale_mode == ppcr::ScaleMode::kFixed || (f1 & 1)) o.expert.scale = scale;
   o.expert.plane_epsilon = ((in.u8() + 12) % 256 + 1) / 256.0;
   o.expert.normal_neighbours = 5 + (in.u8() + 15) % 60;
-  o.expert.source_normals = (f1 & 64) != 0;
-  o.expert.cost_drop_patience = (in.u8() + 10) % 16;
+  o.expert.source_normals = ((f1 & 64) != 0) != defaults.expert.source_normals;  // 0: default
+  o.expert.cost_drop_patience = (in.u8() + defaults.expert.cost_drop_patience) % 16;
   o.expert.mse_patience = (in.u8() + 3) % 8;
   o.expert.successful_steps_patience = (in.u8() + 3) % 8;
   o.expert.successful_steps_threshold = (in.u8() + 1) % 8;
@@ -226,7 +228,7 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   if (f1 & 2) o.expert.cost_drop_max_motion = cd_motion;
   (void)em_motion;  // (a byte kept so that the corpus keeps its layout)
   if (f1 & 8) o.expert.em_min_scale = em_min;
-  if (f1 & 128) o.expert.noise_floor = em_min;
+  if (f1 & 128) o.expert.noise_floor = defaults.expert.noise_floor > 0.0 ? 0.0 : em_min;
   if (f1 & 16) o.source_voxel = src_voxel;
   if (f1 & 32) o.target_voxel = tgt_voxel;
 

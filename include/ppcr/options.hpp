@@ -68,14 +68,14 @@ struct ExpertOptions {
   // Plane error model.
   int normal_neighbours = 20;    // target (and source) points per PCA normal fit, [5, 64]
   double plane_epsilon = 0.05;   // in-plane weight epsilon of Omega, (0, 1]
-  bool source_normals = false;   // pairs use the mean of both clouds' normals (GICP-like)
-  double noise_floor = 0.0;      // kEM: floor s at this multiple of the target's surface noise
+  bool source_normals = true;    // pairs use the mean of both clouds' normals (GICP-like)
+  double noise_floor = 0.8;      // kEM: floor s at this multiple of the target's surface noise
                                  // (RegistrationResult::target_surface_noise); >= 0, 0 = none
 
   // Termination (docs/TERMINATION.md).
   int fixed_iterations = 100;         // kCriterionFixed: stop at this iteration (>= 1)
   double cost_drop_threshold = 0.01;  // kCriterionCostDrop: low drop, fraction (paper: 1 %), >= 0
-  int cost_drop_patience = 10;        // kCriterionCostDrop: low iterations tolerated (paper: 10)
+  int cost_drop_patience = 8;         // kCriterionCostDrop: low iterations tolerated (paper: 10)
   double cost_drop_max_motion = 0.02;  // kCriterionCostDrop: a low iteration must also move the
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule
@@ -106,9 +106,9 @@ struct IterationRecord;
 /// What a user sets. Lengths are in cloud units (the units of the points).
 struct RegistrationOptions {
   double radius = 1.0;        // association radius (> 0): farther target points are ignored
-  int max_neighbours = 10;    // target points associated per source point, k, [1, 1024]
+  int max_neighbours = 6;     // target points associated per source point, k, [1, 1024]
   ErrorModel error_model = ErrorModel::kPlane;
-  double dof = 5.0;           // Student-t degrees of freedom nu (> 0; authors: 5)
+  double dof = 1.25;          // Student-t degrees of freedom nu (> 0; authors: 5)
   double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0; 0 = no filter)
   double target_voxel = 0.0;  // voxel-grid leaf for the target (>= 0; 0 = no filter)
   std::uint32_t criteria = kCriterionCostDrop;  // bitwise OR of Criterion

@@ -207,16 +207,10 @@ ppcr::Status read_words(const RegistrationFlags& f, ppcr::RegistrationOptions* o
 // Settings that only act with another one: refused rather than ignored.
 ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::RegistrationOptions& o) {
   const ppcr::ExpertOptions& e = o.expert;
-  const bool plane = o.error_model == ppcr::ErrorModel::kPlane;
   const bool em = e.scale_mode == ppcr::ScaleMode::kEM;
-  if (e.source_normals && !plane) {
-    return bad("--source-normals", "set", "needs --error-model plane, got " + f.error_model);
-  }
-  if (e.noise_floor > 0.0 && !plane) {
-    return bad("--noise-floor", str(e.noise_floor), "needs --error-model plane, got " + f.error_model);
-  }
+  // (--source-normals and --noise-floor, on by default, are unused by the point model and the
+  // noise floor by the raw and fixed scales, as the library documents.)
   const std::pair<bool, std::pair<const char*, std::string>> needs_em[] = {
-      {e.noise_floor > 0.0, {"--noise-floor", str(e.noise_floor)}},
       {e.em_min_scale > 0.0, {"--min-scale", str(e.em_min_scale)}},
       {e.coarse_stride > 1, {"--coarse-stride", f.coarse_stride}},
       {e.lm_fine_function_tolerance > 0.0, {"--lm-fine-tolerance", f.lm_fine_tolerance}}};
