@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "footprints.hpp"
 #include "random.hpp"
 #include "scene.hpp"
 
@@ -35,32 +36,17 @@ class TablePlanner {
   explicit TablePlanner(Rng* rng) : rng_(rng) {}
 
   Eigen::Vector2d place(double radius) {
-    Eigen::Vector2d chosen = Eigen::Vector2d::Zero();  // always valid: the centre
-    bool have_valid = false;
     const double reach = std::max(0.0, kPlacementRadius - radius);
-    for (int attempt = 0; attempt < 200; ++attempt) {
-      const Eigen::Vector2d p(rng_->uniform(-reach, reach), rng_->uniform(-reach, reach));
-      if (p.norm() > reach) continue;
-      if (!have_valid) {
-        chosen = p;
-        have_valid = true;
-      }
-      bool free = true;
-      for (const Eigen::Vector3d& f : placed_) {
-        if ((p - f.head<2>()).norm() < radius + f.z() + 0.02) free = false;
-      }
-      if (free) {
-        chosen = p;
-        break;
-      }
-    }
-    placed_.emplace_back(chosen.x(), chosen.y(), radius);
-    return chosen;
+    // The fallback is always valid: the centre.
+    return planner_.place(radius, Eigen::Vector2d::Zero(), [&](Eigen::Vector2d* p) {
+      *p = Eigen::Vector2d(rng_->uniform(-reach, reach), rng_->uniform(-reach, reach));
+      return !(p->norm() > reach);
+    });
   }
 
  private:
   Rng* rng_;
-  std::vector<Eigen::Vector3d> placed_;  // (x, y, radius)
+  FootprintPlanner planner_{0.02};
 };
 
 }  // namespace

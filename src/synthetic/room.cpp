@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "footprints.hpp"
 #include "random.hpp"
 #include "scene.hpp"
 
@@ -36,33 +37,18 @@ class FloorPlanner {
   explicit FloorPlanner(Rng* rng) : rng_(rng) {}
 
   Eigen::Vector2d place(double radius) {
-    // Always valid: a corner of the room is far from the clear disc.
-    Eigen::Vector2d chosen(kHalfX - radius, kHalfY - radius);
-    bool have_valid = false;
-    for (int attempt = 0; attempt < 200; ++attempt) {
-      const Eigen::Vector2d p(rng_->uniform(-kHalfX + radius, kHalfX - radius),
-                              rng_->uniform(-kHalfY + radius, kHalfY - radius));
-      if (p.norm() < kClearRadius + radius) continue;
-      if (!have_valid) {
-        chosen = p;
-        have_valid = true;
-      }
-      bool free = true;
-      for (const Eigen::Vector3d& f : placed_) {
-        if ((p - f.head<2>()).norm() < radius + f.z() + 0.1) free = false;
-      }
-      if (free) {
-        chosen = p;
-        break;
-      }
-    }
-    placed_.emplace_back(chosen.x(), chosen.y(), radius);
-    return chosen;
+    // The fallback is always valid: a corner of the room is far from the clear disc.
+    return planner_.place(radius, Eigen::Vector2d(kHalfX - radius, kHalfY - radius),
+                          [&](Eigen::Vector2d* p) {
+                            *p = Eigen::Vector2d(rng_->uniform(-kHalfX + radius, kHalfX - radius),
+                                                 rng_->uniform(-kHalfY + radius, kHalfY - radius));
+                            return !(p->norm() < kClearRadius + radius);
+                          });
   }
 
  private:
   Rng* rng_;
-  std::vector<Eigen::Vector3d> placed_;  // (x, y, radius)
+  FootprintPlanner planner_{0.1};
 };
 
 }  // namespace
