@@ -1,0 +1,135 @@
+// ppcr_cli as a user runs it (std::system on the built tool, clouds written by the test): a
+// failed write to stdout, an output path that cannot be written, empty and out-of-range values
+// and the grouped --help each give a clear message and a non-zero status, never a crash.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+const std::string kDir = PPCR_CLI_TEST_DIR;
+
+struct Run {
+  int status;
+  std::string out, err;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// Runs ppcr_cli with `arguments`; stdout goes to `stdout_to` (a path), stderr is kept.
+Run run_cli(const std::string& arguments, const std::string& stdout_to = kDir + "/out.txt") {
+  const std::string err = kDir + "/err.txt";
+  const std::string command = std::string("'") + PPCR_CLI_EXE + "' " + arguments + " > '" +
+                              stdout_to + "' 2> '" + err + "'";
+  const int status = std::system(command.c_str());
+  Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, "", read_text(err)};
+  if (stdout_to != "/dev/full") r.out = read_text(stdout_to);
+  return r;
+}
+
+// A wavy surface and the same surface moved a little, as .xyz text (one NaN row in the source).
+void write_pair() {
+  std::filesystem::create_directories(kDir);
+  std::ofstream target(kDir + "/target.xyz"), source(kDir + "/source.xyz");
+  target.precision(17);
+  source.precision(17);
+  for (double x = -0.5; x <= 0.5; x += 0.02) {
+    for (double y = -0.5; y <= 0.5; y += 0.02) {
+      const double z = 0.1 * std::sin(4 * x) * std::cos(3 * y);
+      target << x << ' ' << y << ' ' << z << '\n';
+      source << x + 0.01 << ' ' << y - 0.01 << ' ' << z << '\n';
+    }
+  }
+  source << "nan 0 0\n";
+}
+
+const std::string& pair_args() {
+  static const std::string args = "'" + kDir + "/source.xyz' '" + kDir + "/target.xyz' --radius 0.1";
+  return args;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("ppcr_cli registers, and its JSON counts the points the reader dropped", "[cli]") {
+  write_pair();
+  const Run r = run_cli(pair_args() + " --json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(contains(r.out, "\"source_non_finite\": 1"));
+  CHECK(contains(r.out, "\"fitness\""));
+  CHECK(contains(r.out, "\"inlier_rmse\""));
+  CHECK(contains(r.out, "\"information\""));
+  CHECK(contains(r.err, "fitness"));
+}
+
+TEST_CASE("ppcr_cli: a stdout that cannot be written is exit 1", "[cli]") {
+  write_pair();
+  for (const std::string& args : {pair_args() + " --json", pair_args(), std::string("--help")}) {
+    const Run r = run_cli(args, "/dev/full");
+    INFO(args << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, "stdout"));
+  }
+}
+
+TEST_CASE("ppcr_cli: an output path that cannot be written fails before the registration",
+          "[cli]") {
+  write_pair();
+  for (const char* flag : {"--output-transform", "--output-cloud", "--trace"}) {
+    const Run r = run_cli(pair_args() + " --verbose " + flag + " '" + kDir + "/no/such/dir/x'");
+    INFO(flag << ": " << r.err);
+    CHECK(r.status == 1);
+    CHECK(contains(r.err, flag));
+    CHECK(contains(r.err, "No such file or directory"));
+    CHECK_FALSE(contains(r.err, "iter "));  // no iteration ran
+  }
+}
+
+TEST_CASE("ppcr_cli: empty, negative and oversized values are refused with the flag", "[cli]") {
+  write_pair();
+  const std::pair<const char*, const char*> cases[] = {
+      {"--source-voxel ''", "--source-voxel"},
+      {"--output-transform ''", "--output-transform"},
+      {"--trace ''", "--trace"},
+      {"--cost-drop-threshold -0.5", "--cost-drop-threshold"},
+      {"--steps-threshold -1", "--steps-threshold"},
+      {"--neighbour-cache 2147483647", "--neighbour-cache"},
+      {"--radius 0", "--radius"},
+  };
+  for (const auto& [args, flag] : cases) {
+    const Run r = run_cli(pair_args() + " " + args);
+    INFO(args << ": " << r.err);
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, flag));
+  }
+}
+
+TEST_CASE("ppcr_cli --help groups the options", "[cli]") {
+  const Run r = run_cli("--help");
+  REQUIRE(r.status == 0);
+  const std::size_t registration = r.out.find("Registration:");
+  const std::size_t termination = r.out.find("Termination:");
+  const std::size_t expert = r.out.find("Expert");
+  REQUIRE(registration != std::string::npos);
+  REQUIRE(termination != std::string::npos);
+  REQUIRE(expert != std::string::npos);
+  CHECK(registration < termination);
+  CHECK(termination < expert);
+  CHECK(r.out.find("--radius", registration) < termination);
+  CHECK(r.out.find("--coarse-stride", expert) != std::string::npos);
+}
