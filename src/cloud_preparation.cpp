@@ -85,7 +85,7 @@ Status prepare_cloud(const PointCloud& in, double voxel, const char* name, Prepa
   if (voxel > 0.0 && !out->points.empty()) {
     PointCloud filtered;
     Status s = voxel_downsample(out->points, voxel, &filtered);
-    if (!s.ok()) return Status(s.code(), std::string(name) + ": " + s.message());
+    if (!s.ok()) return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
     out->points = std::move(filtered);
   }
   if (out->points.size() < 3) return too_few(name, out->points.size(), in.size(), out->dropped, voxel);

@@ -1,6 +1,8 @@
 // voxel.cpp - voxel-grid downsampling: the centroid of the points of each occupied voxel.
 #include "ppcr/voxel.hpp"
 
+#include "format.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -12,7 +14,7 @@ inline namespace PPCR_ABI_NAMESPACE {
 Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* out) {
   if (!(std::isfinite(leaf_size) && leaf_size > 0.0)) {
     return Status(StatusCode::kInvalidArgument,
-                  "voxel leaf size must be finite and > 0, got " + std::to_string(leaf_size));
+                  "voxel leaf size must be finite and > 0, got " + detail::num(leaf_size));
   }
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL);
   Eigen::Vector3d hi = Eigen::Vector3d::Constant(-HUGE_VAL);
@@ -36,9 +38,9 @@ Status voxel_downsample(const PointCloud& cloud, double leaf_size, PointCloud* o
   const double inv_leaf = 1.0 / leaf_size;
   const Eigen::Vector3d cells = ((hi - lo) * inv_leaf).array().floor() + 1.0;
   if (!(cells.array() <= kMaxCells).all()) {
-    return Status(StatusCode::kInvalidArgument, "voxel leaf size " + std::to_string(leaf_size) +
+    return Status(StatusCode::kInvalidArgument, "voxel leaf size " + detail::num(leaf_size) +
                                                     " is too small for a cloud " + "spanning " +
-                                                    std::to_string((hi - lo).maxCoeff()) +
+                                                    detail::num((hi - lo).maxCoeff()) +
                                                     " units: more than 2^21 cells along an axis");
   }
 

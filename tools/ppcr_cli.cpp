@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
     std::printf("%s\n",
                 ppcr_tools::result_json(result, time_ms, in.has_gt ? &gt : nullptr).dump(2).c_str());
   }
-  if (!result.status.ok()) return fail(result.status.message());
+  if (!result.status.ok()) return fail(ppcr_tools::with_flag_names(result.status).message());
   s = write_outputs(a, in, result);
   if (!s.ok()) return fail(s.message());
   if (!a.json) std::printf("%s", ppcr_tools::matrix_text(result.T_target_source.matrix()).c_str());

@@ -66,126 +66,170 @@ const char kKnownTypes[] =
     "char uchar short ushort int uint float double int8 uint8 int16 uint16 int32 uint32 float32 "
     "float64";
 
-Status parse_header(const Input& in, PlyHeader* header) {
+// Whether the header has shown its 'format' and 'end_header' lines yet.
+struct HeaderProgress {
+  bool have_format = false;
+  bool have_end = false;
+};
+
+Status parse_end_header(const Input& in, std::size_t ln, Tokenizer* tokens,
+                        HeaderProgress* progress) {
+  std::string_view extra;
+  if (tokens->next(&extra)) {
+    return parse_error(in, at_line(ln) + "unexpected " + quoted(extra) + " after end_header");
+  }
+  progress->have_end = true;
+  return Status::Ok();
+}
+
+Status parse_format_line(const Input& in, std::size_t ln, std::string_view line, Tokenizer* tokens,
+                         HeaderProgress* progress, PlyHeader* header) {
+  if (progress->have_format) return parse_error(in, at_line(ln) + "second 'format' line");
+  std::string_view t1, t2, extra;
+  if (!tokens->next(&t1) || !tokens->next(&t2) || tokens->next(&extra)) {
+    return parse_error(in, at_line(ln) + "expected 'format <encoding> 1.0', saw " + quoted(line));
+  }
+  if (t1 == "ascii") {
+    header->encoding = PlyEncoding::kAscii;
+  } else if (t1 == "binary_little_endian") {
+    header->encoding = PlyEncoding::kBinaryLittleEndian;
+  } else if (t1 == "binary_big_endian") {
+    header->encoding = PlyEncoding::kBinaryBigEndian;
+  } else {
+    return parse_error(in, at_line(ln) + "unknown PLY format " + quoted(t1) +
+                               " (expected ascii, binary_little_endian or binary_big_endian)");
+  }
+  if (t2 != "1.0" && t2 != "1") {
+    return parse_error(in,
+                       at_line(ln) + "unsupported PLY version " + quoted(t2) + " (expected 1.0)");
+  }
+  progress->have_format = true;
+  return Status::Ok();
+}
+
+Status parse_element_line(const Input& in, std::size_t ln, std::string_view line, Tokenizer* tokens,
+                          PlyHeader* header) {
+  std::string_view t1, t2, extra;
+  if (!tokens->next(&t1) || !tokens->next(&t2) || tokens->next(&extra)) {
+    return parse_error(in, at_line(ln) + "expected 'element <name> <count>', saw " + quoted(line));
+  }
+  PlyElement element;
+  element.name = std::string(t1);
+  element.header_line = ln;
+  if (!parse_uint64(t2, &element.count)) {
+    const bool negative = !t2.empty() && t2[0] == '-';
+    return parse_error(
+        in, at_line(ln) + "element " + quoted(t1) + " count " + quoted(t2) +
+                (negative ? " is negative" : " is not a non-negative integer below 2^64"));
+  }
+  header->elements.push_back(std::move(element));
+  return Status::Ok();
+}
+
+// The rest of a 'property list <count type> <item type> <name>' line (after "list").
+Status parse_list_property(const Input& in, std::size_t ln, std::string_view line,
+                           Tokenizer* tokens, PlyProperty* property) {
+  std::string_view t2, t3, t4, extra;
+  if (!tokens->next(&t2) || !tokens->next(&t3) || !tokens->next(&t4) || tokens->next(&extra)) {
+    return parse_error(in, at_line(ln) +
+                               "expected 'property list <count type> <item type> <name>', "
+                               "saw " +
+                               quoted(line));
+  }
+  property->is_list = true;
+  if (!ply_scalar_type(t2, &property->count_type)) {
+    return parse_error(in, at_line(ln) + "unknown list count type " + quoted(t2) +
+                               " (known: " + kKnownTypes + ")");
+  }
+  if (!is_integer(property->count_type)) {
+    return parse_error(in,
+                       at_line(ln) + "list count type " + quoted(t2) + " is not an integer type");
+  }
+  if (!ply_scalar_type(t3, &property->type)) {
+    return parse_error(
+        in, at_line(ln) + "unknown list item type " + quoted(t3) + " (known: " + kKnownTypes + ")");
+  }
+  property->name = std::string(t4);
+  return Status::Ok();
+}
+
+// The rest of a 'property <type> <name>' line, whose type token has been read.
+Status parse_scalar_property(const Input& in, std::size_t ln, std::string_view line,
+                             std::string_view type, Tokenizer* tokens, PlyProperty* property) {
+  std::string_view name, extra;
+  if (!tokens->next(&name) || tokens->next(&extra)) {
+    return parse_error(in, at_line(ln) + "expected 'property <type> <name>', saw " + quoted(line));
+  }
+  if (!ply_scalar_type(type, &property->type)) {
+    return parse_error(in, at_line(ln) + "unknown property type " + quoted(type) +
+                               " (known: " + kKnownTypes + ")");
+  }
+  property->name = std::string(name);
+  return Status::Ok();
+}
+
+// A property line adds a property to the element declared last.
+Status parse_property_line(const Input& in, std::size_t ln, std::string_view line,
+                           Tokenizer* tokens, PlyHeader* header) {
+  if (header->elements.empty()) {
+    return parse_error(in, at_line(ln) + "'property' before any 'element'");
+  }
+  PlyProperty property;
+  std::string_view t1;
+  if (!tokens->next(&t1)) {
+    return parse_error(in, at_line(ln) + "expected 'property <type> <name>', saw " + quoted(line));
+  }
+  Status s = t1 == "list" ? parse_list_property(in, ln, line, tokens, &property)
+                          : parse_scalar_property(in, ln, line, t1, tokens, &property);
+  if (!s.ok()) return s;
+  header->elements.back().properties.push_back(std::move(property));
+  return Status::Ok();
+}
+
+// One header line after "ply", dispatched on its keyword; blank, comment and obj_info lines are
+// skipped.
+Status parse_header_line(const Input& in, std::size_t ln, std::string_view line,
+                         HeaderProgress* progress, PlyHeader* header) {
+  Tokenizer tokens(line);
+  std::string_view keyword;
+  if (!tokens.next(&keyword)) return Status::Ok();  // blank header line
+  if (keyword == "comment" || keyword == "obj_info") return Status::Ok();
+  if (keyword == "end_header") return parse_end_header(in, ln, &tokens, progress);
+  if (keyword == "format") return parse_format_line(in, ln, line, &tokens, progress, header);
+  if (keyword == "element") return parse_element_line(in, ln, line, &tokens, header);
+  if (keyword == "property") return parse_property_line(in, ln, line, &tokens, header);
+  return parse_error(in, at_line(ln) + "unknown header keyword " + quoted(keyword) +
+                             " (expected format, element, property, comment, obj_info or "
+                             "end_header)");
+}
+
+// Reads the header lines from "ply" (a UTF-8 byte-order mark before it is skipped) to
+// end_header and sets where the body starts.
+Status read_header_lines(const Input& in, PlyHeader* header) {
   LineCursor cursor(in.data, in.size, utf8_bom_size(in.data, in.size));
   std::string_view line;
   if (!cursor.next(&line) || line != "ply") {
     return parse_error(in, "not a PLY file: line 1 should be 'ply', saw " +
                                quoted(std::string_view(in.data, in.size < 16 ? in.size : 16)));
   }
-  bool have_format = false;
-  bool have_end = false;
-  while (cursor.next(&line)) {
-    const std::size_t ln = cursor.line_number();
-    Tokenizer tokens(line);
-    std::string_view keyword;
-    if (!tokens.next(&keyword)) continue;  // blank header line
-    if (keyword == "comment" || keyword == "obj_info") continue;
-    std::string_view t1, t2, t3, t4, extra;
-    if (keyword == "end_header") {
-      if (tokens.next(&extra)) {
-        return parse_error(in, at_line(ln) + "unexpected " + quoted(extra) + " after end_header");
-      }
-      have_end = true;
-      break;
-    }
-    if (keyword == "format") {
-      if (have_format) return parse_error(in, at_line(ln) + "second 'format' line");
-      if (!tokens.next(&t1) || !tokens.next(&t2) || tokens.next(&extra)) {
-        return parse_error(in,
-                           at_line(ln) + "expected 'format <encoding> 1.0', saw " + quoted(line));
-      }
-      if (t1 == "ascii") {
-        header->encoding = PlyEncoding::kAscii;
-      } else if (t1 == "binary_little_endian") {
-        header->encoding = PlyEncoding::kBinaryLittleEndian;
-      } else if (t1 == "binary_big_endian") {
-        header->encoding = PlyEncoding::kBinaryBigEndian;
-      } else {
-        return parse_error(in, at_line(ln) + "unknown PLY format " + quoted(t1) +
-                                   " (expected ascii, binary_little_endian or binary_big_endian)");
-      }
-      if (t2 != "1.0" && t2 != "1") {
-        return parse_error(
-            in, at_line(ln) + "unsupported PLY version " + quoted(t2) + " (expected 1.0)");
-      }
-      have_format = true;
-      continue;
-    }
-    if (keyword == "element") {
-      if (!tokens.next(&t1) || !tokens.next(&t2) || tokens.next(&extra)) {
-        return parse_error(in,
-                           at_line(ln) + "expected 'element <name> <count>', saw " + quoted(line));
-      }
-      PlyElement element;
-      element.name = std::string(t1);
-      element.header_line = ln;
-      if (!parse_uint64(t2, &element.count)) {
-        const bool negative = !t2.empty() && t2[0] == '-';
-        return parse_error(
-            in, at_line(ln) + "element " + quoted(t1) + " count " + quoted(t2) +
-                    (negative ? " is negative" : " is not a non-negative integer below 2^64"));
-      }
-      header->elements.push_back(std::move(element));
-      continue;
-    }
-    if (keyword == "property") {
-      if (header->elements.empty()) {
-        return parse_error(in, at_line(ln) + "'property' before any 'element'");
-      }
-      PlyProperty property;
-      if (!tokens.next(&t1)) {
-        return parse_error(in,
-                           at_line(ln) + "expected 'property <type> <name>', saw " + quoted(line));
-      }
-      if (t1 == "list") {
-        if (!tokens.next(&t2) || !tokens.next(&t3) || !tokens.next(&t4) || tokens.next(&extra)) {
-          return parse_error(in, at_line(ln) +
-                                     "expected 'property list <count type> <item type> <name>', "
-                                     "saw " +
-                                     quoted(line));
-        }
-        property.is_list = true;
-        if (!ply_scalar_type(t2, &property.count_type)) {
-          return parse_error(in, at_line(ln) + "unknown list count type " + quoted(t2) +
-                                     " (known: " + kKnownTypes + ")");
-        }
-        if (!is_integer(property.count_type)) {
-          return parse_error(
-              in, at_line(ln) + "list count type " + quoted(t2) + " is not an integer type");
-        }
-        if (!ply_scalar_type(t3, &property.type)) {
-          return parse_error(in, at_line(ln) + "unknown list item type " + quoted(t3) +
-                                     " (known: " + kKnownTypes + ")");
-        }
-        property.name = std::string(t4);
-      } else {
-        if (!tokens.next(&t2) || tokens.next(&extra)) {
-          return parse_error(
-              in, at_line(ln) + "expected 'property <type> <name>', saw " + quoted(line));
-        }
-        if (!ply_scalar_type(t1, &property.type)) {
-          return parse_error(in, at_line(ln) + "unknown property type " + quoted(t1) +
-                                     " (known: " + kKnownTypes + ")");
-        }
-        property.name = std::string(t2);
-      }
-      header->elements.back().properties.push_back(std::move(property));
-      continue;
-    }
-    return parse_error(in, at_line(ln) + "unknown header keyword " + quoted(keyword) +
-                               " (expected format, element, property, comment, obj_info or "
-                               "end_header)");
+  HeaderProgress progress;
+  while (!progress.have_end && cursor.next(&line)) {
+    Status s = parse_header_line(in, cursor.line_number(), line, &progress, header);
+    if (!s.ok()) return s;
   }
-  if (!have_end) {
+  if (!progress.have_end) {
     return parse_error(in, "header has no 'end_header' line (the file ends at byte " +
                                std::to_string(in.size) + ", line " +
                                std::to_string(cursor.line_number()) + ")");
   }
-  if (!have_format) return parse_error(in, "header has no 'format' line");
+  if (!progress.have_format) return parse_error(in, "header has no 'format' line");
   header->body_offset = cursor.offset();
   header->body_first_line = cursor.line_number() + 1;
+  return Status::Ok();
+}
 
+// Finds the element 'vertex': exactly once.
+Status find_vertex_element(const Input& in, PlyHeader* header) {
   bool found_vertex = false;
   for (std::size_t e = 0; e < header->elements.size(); ++e) {
     if (header->elements[e].name != "vertex") continue;
@@ -196,6 +240,11 @@ Status parse_header(const Input& in, PlyHeader* header) {
     header->vertex_element = e;
   }
   if (!found_vertex) return parse_error(in, "header declares no 'vertex' element");
+  return Status::Ok();
+}
+
+// Finds the vertex properties x, y and z: each exactly once, and scalar.
+Status find_xyz_properties(const Input& in, PlyHeader* header) {
   const PlyElement& vertex = header->elements[header->vertex_element];
   static const char* const kAxes[3] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) {
@@ -220,6 +269,13 @@ Status parse_header(const Input& in, PlyHeader* header) {
     }
   }
   return Status::Ok();
+}
+
+Status parse_header(const Input& in, PlyHeader* header) {
+  Status s = read_header_lines(in, header);
+  if (s.ok()) s = find_vertex_element(in, header);
+  if (s.ok()) s = find_xyz_properties(in, header);
+  return s;
 }
 
 // ------------------------------------------------------------------ binary body

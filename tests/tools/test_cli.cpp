@@ -2,6 +2,7 @@
 // failed write to stdout, an output path that cannot be written, empty and out-of-range values
 // and the grouped --help each give a clear message and a non-zero status, never a crash.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,7 +14,8 @@
 
 namespace {
 
-const std::string kDir = PPCR_CLI_TEST_DIR;
+// One folder per process: ctest runs the test cases in parallel.
+const std::string kDir = std::string(PPCR_CLI_TEST_DIR) + "/" + std::to_string(getpid());
 
 struct Run {
   int status;

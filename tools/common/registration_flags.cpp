@@ -220,7 +220,8 @@ ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::Registra
   return ppcr::Status::Ok();
 }
 
-// The core's message names the option's field; say the flag instead.
+}  // namespace
+
 ppcr::Status with_flag_names(const ppcr::Status& s) {
   static const std::pair<const char*, const char*> kFields[] = {
       {"expert.scale (fixed scale)", "--scale"}, {"expert.scale", "--coarse-scale"},
@@ -241,15 +242,15 @@ ppcr::Status with_flag_names(const ppcr::Status& s) {
       {"max_iterations", "--max-iterations"}, {"num_threads", "--threads"}};
   const std::string& message = s.message();
   for (const auto& [field, flag] : kFields) {
-    const std::string prefix = std::string(field) + " must be ";
+    const std::string prefix = std::string(field) + " ";
     if (message.rfind(prefix, 0) == 0) {
-      return ppcr::Status(s.code(), std::string(flag) + ": " + message.substr(std::string(field).size() + 1));
+      const std::string rest = message.substr(prefix.size());
+      const bool rule = rest.rfind("must be ", 0) == 0;
+      return ppcr::Status(s.code(), std::string(flag) + (rule ? ": " : " ") + rest);
     }
   }
   return s;
 }
-
-}  // namespace
 
 const CLI::Validator& non_empty() {
   static const CLI::Validator validator(

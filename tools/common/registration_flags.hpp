@@ -39,6 +39,10 @@ const CLI::Validator& non_empty();
 /// Every value flag refuses an empty value.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
+/// A library message that starts with an option's field name ("source_voxel ...", "radius must
+/// be ...") with the flag's name instead.
+ppcr::Status with_flag_names(const ppcr::Status& status);
+
 /// Reads the word flags and validates everything into *options. The message names the flag and
 /// the value seen.
 ppcr::Status to_options(const RegistrationFlags& flags, ppcr::RegistrationOptions* options);

@@ -115,35 +115,42 @@ Eigen::Isometry3d random_misplacement(Uniform* uniform, const Eigen::Vector3d& c
   return T0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using ppcr::synthetic::SceneKind;
-  ppcr::synthetic::ScanOptions options;
+/// The command line's values. The sensor flags go to `given` and only override the --sensor
+/// preset when given (the lidar preset takes them all), so their options are kept to ask.
+struct CommandLine {
   std::string out_dir;
+  std::string scene = "room";
+  std::string sensor = "lidar";
   int problems = 10;
   double max_problem_rotation = 30.0;
   double max_problem_translation = 1.0;
+  ppcr::synthetic::ScanOptions options;  // the scan flags; scene and sensor set by scan_options()
+  ppcr::synthetic::SensorModel given;    // the flags' values, applied over the --sensor preset
+  CLI::Option* translation = nullptr;
+  CLI::Option* beams = nullptr;
+  CLI::Option* steps = nullptr;
+  CLI::Option* fov_up = nullptr;
+  CLI::Option* fov_down = nullptr;
+  CLI::Option* hfov = nullptr;
+  CLI::Option* min_range = nullptr;
+  CLI::Option* max_range = nullptr;
+};
 
-  CLI::App app{
-      "ppcr_synth: a synthetic scene scanned by a simulated lidar or depth camera from two poses, "
-      "with the exact ground truth (source.ply, target.ply, ground_truth.txt, "
-      "source_gt_frame.ply, problems.txt in OUT_DIR)",
-      "ppcr_synth"};
-  app.add_option("OUT_DIR", out_dir, "output folder (created if missing)")->required();
-  std::string scene = "room";
-  app.add_option("--scene", scene,
-                 "room (12 x 9 x 3 m, indoor), street (160 m, outdoor) or objects (a 1.2 x 0.9 m "
-                 "tabletop seen from 0.6-1.8 m)")
+/// OUT_DIR, --scene, --sensor and the scan's --seed, noise, outlier and motion flags.
+void add_scan_options(CLI::App* app, CommandLine* line) {
+  ppcr::synthetic::ScanOptions& options = line->options;
+  app->add_option("OUT_DIR", line->out_dir, "output folder (created if missing)")->required();
+  app->add_option("--scene", line->scene,
+                  "room (12 x 9 x 3 m, indoor), street (160 m, outdoor) or objects (a 1.2 x 0.9 m "
+                  "tabletop seen from 0.6-1.8 m)")
       ->check(CLI::IsMember({"room", "street", "objects"}))
       ->capture_default_str();
-  std::string sensor = "lidar";
-  app.add_option("--sensor", sensor,
-                 "lidar (spinning, 360 degrees) or camera (depth camera: pinhole 320 x 240 "
-                 "pixels, 58 x 45 degrees, 0.4-4.5 m; the flags below override it)")
+  app->add_option("--sensor", line->sensor,
+                  "lidar (spinning, 360 degrees) or camera (depth camera: pinhole 320 x 240 "
+                  "pixels, 58 x 45 degrees, 0.4-4.5 m; the flags below override it)")
       ->check(CLI::IsMember({"lidar", "camera"}))
       ->capture_default_str();
-  app.add_option("--seed", options.seed, "seeds the layout, the poses, the noise, the outliers")
+  app->add_option("--seed", options.seed, "seeds the layout, the poses, the noise, the outliers")
       ->check(CLI::Validator(
           [](std::string& value) -> std::string {
             if (!value.empty() && value[0] == '-') return "value " + value + " is negative";
@@ -151,103 +158,116 @@ int main(int argc, char** argv) {
           },
           "UINT64"))
       ->capture_default_str();
-  app.add_option("--noise", options.noise_sigma,
-                 "std of the Gaussian range noise along each ray, metres")
+  app->add_option("--noise", options.noise_sigma,
+                  "std of the Gaussian range noise along each ray, metres")
       ->capture_default_str();
-  app.add_option("--noise-per-metre", options.noise_per_metre,
-                 "range-proportional noise: std sqrt(noise^2 + (A range)^2) along each ray, "
-                 "[0, 1]")
+  app->add_option("--noise-per-metre", options.noise_per_metre,
+                  "range-proportional noise: std sqrt(noise^2 + (A range)^2) along each ray, "
+                  "[0, 1]")
       ->capture_default_str();
-  app.add_option("--depth-quantisation", options.depth_quantisation,
-                 "depth-camera quantisation Q, 1/metres: depths become 1 / (Q k), k integer "
-                 "(steps of about Q depth^2; 0.003 is about a Kinect's; 0 = off)")
+  app->add_option("--depth-quantisation", options.depth_quantisation,
+                  "depth-camera quantisation Q, 1/metres: depths become 1 / (Q k), k integer "
+                  "(steps of about Q depth^2; 0.003 is about a Kinect's; 0 = off)")
       ->capture_default_str();
-  app.add_option("--outliers", options.outlier_fraction,
-                 "fraction of each cloud made of uniform outliers (added), [0, 0.95]")
+  app->add_option("--outliers", options.outlier_fraction,
+                  "fraction of each cloud made of uniform outliers (added), [0, 0.95]")
       ->capture_default_str();
-  app.add_option("--rotation", options.rotation_deg,
-                 "rotation angle between the two sensor poses, degrees, [0, 180]")
+  app->add_option("--rotation", options.rotation_deg,
+                  "rotation angle between the two sensor poses, degrees, [0, 180]")
       ->capture_default_str();
-  auto* translation =
-      app.add_option("--translation", options.translation_m,
-                     "distance between the two sensor positions, metres (room <= 3, street <= "
-                     "30, objects <= 0.6; default 0.3 for objects)")
+  line->translation =
+      app->add_option("--translation", options.translation_m,
+                      "distance between the two sensor positions, metres (room <= 3, street <= "
+                      "30, objects <= 0.6; default 0.3 for objects)")
           ->capture_default_str();
-  ppcr::synthetic::SensorModel given;  // the flags' values, applied over the --sensor preset
-  auto* beams = app.add_option("--beams", given.beams, "lidar vertical channels (camera: rows)")
+}
+
+/// The sensor flags (--beams ... --max-range), into line->given.
+void add_sensor_options(CLI::App* app, CommandLine* line) {
+  ppcr::synthetic::SensorModel& given = line->given;
+  line->beams = app->add_option("--beams", given.beams, "lidar vertical channels (camera: rows)")
                     ->capture_default_str();
-  auto* steps = app.add_option("--steps", given.horizontal_steps,
-                               "lidar azimuth steps per revolution (camera: columns)")
+  line->steps = app->add_option("--steps", given.horizontal_steps,
+                                "lidar azimuth steps per revolution (camera: columns)")
                     ->capture_default_str();
-  auto* fov_up = app.add_option("--fov-up", given.fov_up_deg,
-                                "elevation of the top beam (camera: of the top edge), degrees")
+  line->fov_up = app->add_option("--fov-up", given.fov_up_deg,
+                                 "elevation of the top beam (camera: of the top edge), degrees")
                      ->capture_default_str();
-  auto* fov_down =
-      app.add_option("--fov-down", given.fov_down_deg,
-                     "elevation of the bottom beam (camera: of the bottom edge), degrees")
+  line->fov_down =
+      app->add_option("--fov-down", given.fov_down_deg,
+                      "elevation of the bottom beam (camera: of the bottom edge), degrees")
           ->capture_default_str();
-  auto* hfov = app.add_option("--hfov", given.horizontal_fov_deg,
-                              "horizontal field of view, degrees: (0, 360] for the lidar (360 = "
-                              "a full turn), (0, 180) for the camera (58)")
+  line->hfov = app->add_option("--hfov", given.horizontal_fov_deg,
+                               "horizontal field of view, degrees: (0, 360] for the lidar (360 = "
+                               "a full turn), (0, 180) for the camera (58)")
                    ->capture_default_str();
-  auto* min_range =
-      app.add_option("--min-range", given.min_range, "closer hits are dropped, metres (camera 0.4)")
-          ->capture_default_str();
-  auto* max_range = app.add_option("--max-range", given.max_range,
-                                   "farther hits are not returned, metres (camera 4.5)")
+  line->min_range = app->add_option("--min-range", given.min_range,
+                                    "closer hits are dropped, metres (camera 0.4)")
                         ->capture_default_str();
-  app.add_option("--problems", problems, "benchmark problems to write in problems.txt")
+  line->max_range = app->add_option("--max-range", given.max_range,
+                                    "farther hits are not returned, metres (camera 4.5)")
+                        ->capture_default_str();
+}
+
+/// The flags of problems.txt (--problems, --max-problem-*).
+void add_problem_options(CLI::App* app, CommandLine* line) {
+  app->add_option("--problems", line->problems, "benchmark problems to write in problems.txt")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  app.add_option("--max-problem-rotation", max_problem_rotation,
-                 "largest initial misplacement rotation of a problem, degrees (about a random "
-                 "axis through the source centroid)")
+  app->add_option("--max-problem-rotation", line->max_problem_rotation,
+                  "largest initial misplacement rotation of a problem, degrees (about a random "
+                  "axis through the source centroid)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
-  app.add_option("--max-problem-translation", max_problem_translation,
-                 "largest initial misplacement translation of a problem, metres")
+  app->add_option("--max-problem-translation", line->max_problem_translation,
+                  "largest initial misplacement translation of a problem, metres")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    return fail(2, std::string(e.what()) + " (see --help)");
-  }
+}
 
-  options.scene = scene == "street"    ? SceneKind::kStreet
-                  : scene == "objects" ? SceneKind::kObjects
-                                       : SceneKind::kRoom;
-  if (options.scene == SceneKind::kObjects && translation->count() == 0) {
+/// The library's ScanOptions from the parsed flags: the scene, the objects scene's default
+/// translation, and the --sensor preset overridden by the sensor flags given (the lidar preset
+/// is the flags' defaults, so it takes them all).
+ppcr::synthetic::ScanOptions scan_options(const CommandLine& line) {
+  using ppcr::synthetic::SceneKind;
+  ppcr::synthetic::ScanOptions options = line.options;
+  const ppcr::synthetic::SensorModel& given = line.given;
+  options.scene = line.scene == "street"    ? SceneKind::kStreet
+                  : line.scene == "objects" ? SceneKind::kObjects
+                                            : SceneKind::kRoom;
+  if (options.scene == SceneKind::kObjects && line.translation->count() == 0) {
     options.translation_m = 0.3;
   }
-  if (sensor == "camera") options.sensor = ppcr::synthetic::depth_camera();
-  if (sensor == "lidar" || beams->count() > 0) options.sensor.beams = given.beams;
-  if (sensor == "lidar" || steps->count() > 0) {
-    options.sensor.horizontal_steps = given.horizontal_steps;
-  }
-  if (sensor == "lidar" || fov_up->count() > 0) options.sensor.fov_up_deg = given.fov_up_deg;
-  if (sensor == "lidar" || fov_down->count() > 0) options.sensor.fov_down_deg = given.fov_down_deg;
-  if (sensor == "lidar" || hfov->count() > 0) {
+  const bool lidar = line.sensor == "lidar";
+  if (line.sensor == "camera") options.sensor = ppcr::synthetic::depth_camera();
+  if (lidar || line.beams->count() > 0) options.sensor.beams = given.beams;
+  if (lidar || line.steps->count() > 0) options.sensor.horizontal_steps = given.horizontal_steps;
+  if (lidar || line.fov_up->count() > 0) options.sensor.fov_up_deg = given.fov_up_deg;
+  if (lidar || line.fov_down->count() > 0) options.sensor.fov_down_deg = given.fov_down_deg;
+  if (lidar || line.hfov->count() > 0) {
     options.sensor.horizontal_fov_deg = given.horizontal_fov_deg;
   }
-  if (sensor == "lidar" || min_range->count() > 0) options.sensor.min_range = given.min_range;
-  if (sensor == "lidar" || max_range->count() > 0) options.sensor.max_range = given.max_range;
-  ppcr::synthetic::ScanPair pair;
-  const ppcr::Status status = ppcr::synthetic::make_scan_pair(options, &pair);
-  if (!status.ok()) return fail(2, with_flag_names(status.message()));
+  if (lidar || line.min_range->count() > 0) options.sensor.min_range = given.min_range;
+  if (lidar || line.max_range->count() > 0) options.sensor.max_range = given.max_range;
+  return options;
+}
 
-  // Benchmark view: the source in the common (target) frame, and the overlap of the pair.
-  ppcr::PointCloud source_gt_frame;
-  source_gt_frame.reserve(pair.source.size());
-  for (const Eigen::Vector3d& p : pair.source) source_gt_frame.push_back(pair.T_target_source * p);
+/// The overlap of the pair and how it was measured.
+struct OverlapEstimate {
+  double spacing = 0.0;  // the target scan's point spacing, metres
+  double radius = 0.0;   // a source point overlaps with a target point within it, metres
+  double fraction = 0.0;
+};
+
+/// The fraction of source points with a target return within 3 x noise + spacing (plus the
+/// range-dependent noise and quantisation at the target's median range when they are on).
+OverlapEstimate estimate_overlap(const ppcr::synthetic::ScanPair& pair,
+                                 const ppcr::synthetic::ScanOptions& options) {
+  OverlapEstimate estimate;
   const ppcr::PointCloud target_returns(
       pair.target.begin(), pair.target.begin() + static_cast<std::ptrdiff_t>(pair.target_returns));
-  const double spacing = ppcr_synth::scan_spacing(target_returns);
-  double radius = 3.0 * options.noise_sigma + spacing;
+  estimate.spacing = ppcr_synth::scan_spacing(target_returns);
+  estimate.radius = 3.0 * options.noise_sigma + estimate.spacing;
   if (options.noise_per_metre > 0.0 || options.depth_quantisation > 0.0) {
     // The range-dependent terms at the target's median range.
     std::vector<double> ranges;
@@ -258,11 +278,18 @@ int main(int argc, char** argv) {
       std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
       median = ranges[ranges.size() / 2];
     }
-    radius += 3.0 * options.noise_per_metre * median + options.depth_quantisation * median * median;
+    estimate.radius +=
+        3.0 * options.noise_per_metre * median + options.depth_quantisation * median * median;
   }
-  const double overlap =
-      ppcr_synth::overlap_fraction(pair.source, pair.T_target_source, pair.target, radius);
+  estimate.fraction =
+      ppcr_synth::overlap_fraction(pair.source, pair.T_target_source, pair.target, estimate.radius);
+  return estimate;
+}
 
+/// Creates OUT_DIR and writes the three clouds and ground_truth.txt into it. Returns 0, or the
+/// exit code after reporting the error.
+int write_scans(const std::string& out_dir, const ppcr::synthetic::ScanPair& pair,
+                const ppcr::PointCloud& source_gt_frame) {
   std::error_code error;
   std::filesystem::create_directories(out_dir, error);
   if (error) return fail(1, "cannot create '" + out_dir + "': " + error.message());
@@ -278,18 +305,25 @@ int main(int argc, char** argv) {
   const ppcr::Status gt_written =
       ppcr::io::write_transform((dir / "ground_truth.txt").string(), pair.T_target_source);
   if (!gt_written.ok()) return fail(1, gt_written.message());
+  return 0;
+}
 
+/// Writes OUT_DIR/problems.txt: line->problems random misplacements about the centroid of
+/// source_gt_frame, each with the pair's overlap. Returns 0, or the exit code after reporting
+/// the error.
+int write_problems(const CommandLine& line, std::uint64_t seed,
+                   const ppcr::PointCloud& source_gt_frame, double overlap) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : source_gt_frame) centroid += p;
   if (!source_gt_frame.empty()) centroid /= static_cast<double>(source_gt_frame.size());
   // Its own stream: SplitMix64-style odd constant mixed into the seed.
-  Uniform uniform(options.seed ^ 0x9E3779B97F4A7C15ULL);
-  const std::string problems_path = (dir / "problems.txt").string();
+  Uniform uniform(seed ^ 0x9E3779B97F4A7C15ULL);
+  const std::string problems_path = (std::filesystem::path(line.out_dir) / "problems.txt").string();
   std::ofstream file(problems_path);
   file << "id source target overlap t1 t2 t3 t4 t5 t6 t7 t8 t9 t10 t11 t12\n";
-  for (int i = 0; i < problems; ++i) {
-    const Eigen::Isometry3d T0 =
-        random_misplacement(&uniform, centroid, max_problem_rotation, max_problem_translation);
+  for (int i = 0; i < line.problems; ++i) {
+    const Eigen::Isometry3d T0 = random_misplacement(&uniform, centroid, line.max_problem_rotation,
+                                                     line.max_problem_translation);
     file << i << " source_gt_frame.ply target.ply " << std::fixed << std::setprecision(4) << overlap
          << std::defaultfloat << std::setprecision(17);
     for (int r = 0; r < 3; ++r) {
@@ -299,7 +333,12 @@ int main(int argc, char** argv) {
   }
   file.close();
   if (!file) return fail(1, "cannot write '" + problems_path + "'");
+  return 0;
+}
 
+/// The summary on stdout: the clouds' sizes, the ground-truth motion, the overlap, the files.
+void print_summary(const CommandLine& line, const ppcr::synthetic::ScanOptions& options,
+                   const ppcr::synthetic::ScanPair& pair, const OverlapEstimate& overlap) {
   std::printf(
       "ppcr_synth: %s scene, seed %llu: source %zu points (%zu outliers), target %zu points (%zu "
       "outliers)\n",
@@ -312,10 +351,51 @@ int main(int argc, char** argv) {
   std::printf(
       "ppcr_synth: overlap %.4f (source points with a target point within %.3f m = 3 x "
       "noise + spacing %.3f m)\n",
-      overlap, radius, spacing);
+      overlap.fraction, overlap.radius, overlap.spacing);
   std::printf(
       "ppcr_synth: wrote source.ply target.ply ground_truth.txt source_gt_frame.ply "
       "problems.txt (%d problems) in %s\n",
-      problems, out_dir.c_str());
+      line.problems, line.out_dir.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CommandLine line;
+  CLI::App app{
+      "ppcr_synth: a synthetic scene scanned by a simulated lidar or depth camera from two poses, "
+      "with the exact ground truth (source.ply, target.ply, ground_truth.txt, "
+      "source_gt_frame.ply, problems.txt in OUT_DIR)",
+      "ppcr_synth"};
+  add_scan_options(&app, &line);
+  add_sensor_options(&app, &line);
+  add_problem_options(&app, &line);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(2, std::string(e.what()) + " (see --help)");
+  }
+
+  const ppcr::synthetic::ScanOptions options = scan_options(line);
+  ppcr::synthetic::ScanPair pair;
+  const ppcr::Status status = ppcr::synthetic::make_scan_pair(options, &pair);
+  if (!status.ok()) return fail(2, with_flag_names(status.message()));
+
+  // Benchmark view: the source in the common (target) frame, and the overlap of the pair.
+  ppcr::PointCloud source_gt_frame;
+  source_gt_frame.reserve(pair.source.size());
+  for (const Eigen::Vector3d& p : pair.source) source_gt_frame.push_back(pair.T_target_source * p);
+  const OverlapEstimate overlap = estimate_overlap(pair, options);
+
+  if (const int code = write_scans(line.out_dir, pair, source_gt_frame); code != 0) return code;
+  if (const int code = write_problems(line, options.seed, source_gt_frame, overlap.fraction);
+      code != 0) {
+    return code;
+  }
+  print_summary(line, options, pair, overlap);
   return 0;
 }
