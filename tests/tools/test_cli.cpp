@@ -31,6 +31,7 @@ std::string read_text(const std::string& path) {
 
 // Runs ppcr_cli with `arguments`; stdout goes to `stdout_to` (a path), stderr is kept.
 Run run_cli(const std::string& arguments, const std::string& stdout_to = kDir + "/out.txt") {
+  std::filesystem::create_directories(kDir);
   const std::string err = kDir + "/err.txt";
   const std::string command = std::string("'") + PPCR_CLI_EXE + "' " + arguments + " > '" +
                               stdout_to + "' 2> '" + err + "'";
