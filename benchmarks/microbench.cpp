@@ -20,9 +20,9 @@
 #include "pair_normals.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
-#include "weights.hpp"
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
+#include "weights.hpp"
 
 namespace {
 

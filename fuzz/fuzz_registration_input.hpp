@@ -3,7 +3,8 @@
 // tests/reliability/ (which replay saved inputs through this same decoder).
 //
 // Every byte sequence decodes (missing bytes read as 0), and all-zero parameter bytes give the
-// library defaults (RegistrationOptions()) with the caps set to 12. Layout, in order (u8 = one byte, pos = two bytes, see positive()):
+// library defaults (RegistrationOptions()) with the caps set to 12. Layout, in order (u8 = one
+// byte, pos = two bytes, see positive()):
 //   flags0 u8   bit0 plane model, bit1 Gaussian, bits2-3 scale mode (0, 3 EM; 1 raw; 2 fixed),
 //               bit4 two threads, bit5 no history, bit6 target = source moved by T_gt (+ extra
 //               target points), bit7 on_iteration cancels after the 2nd iteration
@@ -12,9 +13,10 @@
 //               bit6 flips source_normals, bit7 flips the noise floor (off, or the em_min_scale
 //               value when the default is off)
 //   criteria u8 (low 4 bits XOR kCriterionCostDrop), max_iterations u8, fixed_iterations u8,
-//   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> the default; 240..255
-//   -> 32 .. 1024), radius pos, dof pos (times the default), scale pos, plane.epsilon u8, normal_neighbours
-//   u8, cost_drop_patience u8, mse_patience u8, successful_steps_patience u8,
+//   lm.max_iterations u8 (each 1..12, 0 -> 12), max_neighbours u8 (1..16, 0 -> the default;
+//   240..255
+//   -> 32 .. 1024), radius pos, dof pos (times the default), scale pos, plane.epsilon u8,
+//   normal_neighbours u8, cost_drop_patience u8, mse_patience u8, successful_steps_patience u8,
 //   successful_steps_threshold u8, em_coarse_patience u8, em_min_shrink u8, cost_drop_threshold
 //   pos (times 0.01), cost_drop_max_motion pos, em_coarse_max_motion pos, em_min_scale pos,
 //   source_voxel pos, target_voxel pos, source unit i8, source offset u8, source count u8

@@ -61,8 +61,8 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
                      &table_);
   } else {
     if (spread) table_.resize(source_->size(), settings_.k);
-    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius,
-                      settings_.num_threads, &table_);
+    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.num_threads,
+                      &table_);
   }
   coarse_associated_ = coarse;
   if (source_normals_ != nullptr) {

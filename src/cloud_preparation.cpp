@@ -60,7 +60,8 @@ void center(PreparedCloud* out) {
 // all round to one value is accepted (a cloud of identical points).
 Status check_resolution(const char* name, const PreparedCloud& cloud) {
   double extent = 0.0;
-  for (const Eigen::Vector3d& c : cloud.centered) extent = std::max(extent, c.cwiseAbs().maxCoeff());
+  for (const Eigen::Vector3d& c : cloud.centered)
+    extent = std::max(extent, c.cwiseAbs().maxCoeff());
   const double distance = cloud.origin.cwiseAbs().maxCoeff();
   const double resolution = distance * std::numeric_limits<double>::epsilon();
   if (extent > 0.0 && resolution > 1e-3 * extent) {
@@ -85,14 +86,17 @@ Status prepare_cloud(const PointCloud& in, double voxel, const char* name, Prepa
   if (voxel > 0.0 && !out->points.empty()) {
     PointCloud filtered;
     Status s = voxel_downsample(out->points, voxel, &filtered);
-    if (!s.ok()) return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
+    if (!s.ok())
+      return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
     out->points = std::move(filtered);
   }
-  if (out->points.size() < 3) return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  if (out->points.size() < 3)
+    return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
   center(out);
   Status s = check_resolution(name, *out);
   if (!s.ok()) return s;
-  if (out->points.size() < 3) return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  if (out->points.size() < 3)
+    return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
   return Status::Ok();
 }
 

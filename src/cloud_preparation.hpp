@@ -23,7 +23,7 @@ struct PreparedCloud {
   PointCloud points;    // kept points, in the user's frame
   PointCloud centered;  // the same points minus origin
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  std::size_t dropped = 0;  // non-finite, or too far from the origin for a finite squared norm
+  std::size_t dropped = 0;      // non-finite, or too far from the origin for a finite squared norm
   std::vector<double> scratch;  // for the median, kept so that a same-size cloud allocates nothing
 };
 

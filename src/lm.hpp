@@ -26,8 +26,8 @@ struct LMOptions {
   double step_tolerance = 1e-7;       // stop when a step would move no source point by more than
                                       // this fraction of the step reference (the radius; bound:
                                       // |omega| * r_max + |v|, r_max the source's extent)
-  double initial_lambda = 1e-4;  // initial damping (Ceres' default trust radius 1e4 = 1/lambda)
-  double max_lambda = 1e16;      // give up (kLambdaTooLarge) when damping exceeds this
+  double initial_lambda = 1e-4;      // initial damping (Ceres' default trust radius 1e4 = 1/lambda)
+  double max_lambda = 1e16;          // give up (kLambdaTooLarge) when damping exceeds this
   bool evaluate_first_step = false;  // never end a solve on an unevaluated first step
 };
 

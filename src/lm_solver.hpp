@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "association.hpp"
+#include "lm.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/abi.hpp"
-#include "lm.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

@@ -152,8 +152,8 @@ bool certified_rerank(const CallContext& c, PointState* s, double delta) {
   // Distances first (independent gathers the CPU overlaps), then the branchy selection.
   distances(c.target, s->p, s->cand, cache.count[j], s->cand_d);
   s->listed_distances = true;
-  const int n = rerank(s->cand, s->cand_d, cache.count[j], c.k, c.radius_sq, s->out_idx,
-                       s->out_d, &s->left_out_sq);
+  const int n = rerank(s->cand, s->cand_d, cache.count[j], c.k, c.radius_sq, s->out_idx, s->out_d,
+                       &s->left_out_sq);
   const double m = n > 0 ? std::sqrt(s->out_d[n - 1]) : 0.0;
   const double kth = n == c.k ? m : c.radius;
   if (!(kth + delta < cache.bound[j] - s->margin)) return false;
@@ -186,14 +186,15 @@ int seeded_query(const CallContext& c, PointState* s, int want, std::ptrdiff_t p
         &cache.index[static_cast<std::size_t>(prev) * static_cast<std::size_t>(c.capacity)];
     seed_sq = seed_bound_sq(s->p, c.target, theirs, want);
   }
-  const SeededKnn knn = seeded_radius_knn(c.tree, s->p, want, seed_sq, c.candidate_radius_sq,
-                                          s->cand, s->cand_d);
+  const SeededKnn knn =
+      seeded_radius_knn(c.tree, s->p, want, seed_sq, c.candidate_radius_sq, s->cand, s->cand_d);
   if (knn.outcome != SeedOutcome::kUnseeded) {
     const bool repeated = knn.outcome == SeedOutcome::kRepeated;
     if (own) {
       s->seed = repeated ? NeighbourCache::kSeedRepeated : NeighbourCache::kSeeded;
     } else {
-      s->seed = repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
+      s->seed =
+          repeated ? NeighbourCache::kNeighbourSeedRepeated : NeighbourCache::kNeighbourSeeded;
     }
   }
   return knn.found;
@@ -218,8 +219,8 @@ void requery(const CallContext& c, PointState* s, bool fast, std::ptrdiff_t prev
   cache.query[j] = s->p;
   cache.path[j] = NeighbourCache::kQueried;
   cache.seed[j] = s->seed;
-  const int n = rerank(s->cand, s->cand_d, found, c.k, c.radius_sq, s->out_idx, s->out_d,
-                       &s->left_out_sq);
+  const int n =
+      rerank(s->cand, s->cand_d, found, c.k, c.radius_sq, s->out_idx, s->out_d, &s->left_out_sq);
   set_ranked(c, *s, n, n > 0 ? std::sqrt(s->out_d[n - 1]) : 0.0,
              std::min(std::sqrt(s->left_out_sq), cache.bound[j]));
 }

@@ -262,8 +262,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       double* w = &w_new[slot];
       const Eigen::Vector3d* normals = kPairNormals ? pair_normals + slot : nullptr;
       const Eigen::Vector3d p = R * source[j] + t;
-      const double r_min = squared_errors<kPlane, kPairNormals>(p, count, idx, target, points,
-                                                                normals, epsilon, r);
+      const double r_min =
+          squared_errors<kPlane, kPairNormals>(p, count, idx, target, points, normals, epsilon, r);
       if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
         const double* wp = &w_prev[slot];
         for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];

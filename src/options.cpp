@@ -1,10 +1,11 @@
 // options.cpp - validate(): every field of RegistrationOptions and ExpertOptions, by group.
+#include "ppcr/options.hpp"
+
 #include <cmath>
 #include <string>
 
 #include "association.hpp"
 #include "format.hpp"
-#include "ppcr/options.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

@@ -171,7 +171,8 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_points = target.points.size();
   result->target_non_finite = target.dropped;
   result->target_surface_noise = target_surface_noise;
-  const bool pair_normals = options.error_model == ErrorModel::kPlane && options.expert.source_normals;
+  const bool pair_normals =
+      options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   if (!pair_normals) return Status::Ok();
   s = source_tree.build(source.centered);
   if (!s.ok()) return s;
@@ -218,8 +219,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   const double reference_length = std::min(o.radius, source_extent);
   const std::size_t n = source.points.size();
   const bool pair_normals = o.error_model == ErrorModel::kPlane && o.expert.source_normals;
-  const detail::Associator::Settings settings{o.max_neighbours, o.radius,
-                                              o.expert.neighbour_cache,
+  const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
                                               detail::coarse_stride(o, n), o.num_threads};
   associator.prepare(settings, source.centered, pair_normals ? &source_normals : nullptr);
   plane.pair_normals = associator.pair_normals();
@@ -227,16 +227,16 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
   const CloudMoments moments = compute_moments(source.points);
   const LMOptions coarse_lm = detail::lm_options(o);
-  return Run{Frame(target.origin, source.origin),
-             reference_length,
-             moments,
-             TerminationMonitor(detail::termination_criteria(o), moments, T_initial),
-             detail::ScaleSchedule(detail::schedule_options(o, target_surface_noise),
-                                   reference_length),
-             problem(reference_length, source_extent),
-             coarse_lm,
-             detail::fine_function_tolerance(o),
-             coarse_lm.function_tolerance};
+  return Run{
+      Frame(target.origin, source.origin),
+      reference_length,
+      moments,
+      TerminationMonitor(detail::termination_criteria(o), moments, T_initial),
+      detail::ScaleSchedule(detail::schedule_options(o, target_surface_noise), reference_length),
+      problem(reference_length, source_extent),
+      coarse_lm,
+      detail::fine_function_tolerance(o),
+      coarse_lm.function_tolerance};
 }
 
 // The inner problem of one outer iteration (Sec. 3.1): E-step weights at the scale s (eq. 3-4)
@@ -340,16 +340,17 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
 void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                                    RegistrationResult* result) {
   if (reason == StopReason::kNumericalFailure) {
-    result->status = Status(StatusCode::kNumericalFailure,
-                            "non-finite cost or step in outer iteration " +
-                                std::to_string(result->iterations));
+    result->status =
+        Status(StatusCode::kNumericalFailure,
+               "non-finite cost or step in outer iteration " + std::to_string(result->iterations));
   }
   result->stop_reason = reason;
   result->scale = std::sqrt(run.scale.scale_sq());
   result->information = lm.last().H;
   if (result->iterations == 0) return;
   const Clock::time_point start = Clock::now();
-  const bool source_indexed = options.error_model == ErrorModel::kPlane && options.expert.source_normals;
+  const bool source_indexed =
+      options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
       options.radius, options.num_threads, &quality_scratch);

@@ -1,12 +1,12 @@
 // voxel.cpp - voxel-grid downsampling: the centroid of the points of each occupied voxel.
 #include "ppcr/voxel.hpp"
 
-#include "format.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+
+#include "format.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {

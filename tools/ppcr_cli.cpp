@@ -41,18 +41,23 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_option("TARGET", a->target_path, "reference cloud")->required();
   ppcr_tools::add_registration_flags(app, &a->flags);
   app.add_option("--initial", a->initial_path, "initial guess: a 4x4 rigid transform (text file)")
-      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+      ->check(ppcr_tools::non_empty())
+      ->group(kOutputGroup);
   app.add_option("--ground-truth", a->gt_path,
                  "true 4x4 transform mapping SOURCE into TARGET's frame: adds rotation, "
                  "translation and benchmark errors to the result")
-      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+      ->check(ppcr_tools::non_empty())
+      ->group(kOutputGroup);
   app.add_option("--output-transform", a->out_transform, "write the 4x4 result to this file")
-      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+      ->check(ppcr_tools::non_empty())
+      ->group(kOutputGroup);
   app.add_option("--output-cloud", a->out_cloud,
                  "write the aligned full-resolution source (format by extension)")
-      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+      ->check(ppcr_tools::non_empty())
+      ->group(kOutputGroup);
   app.add_option("--trace", a->trace, "write one CSV row per outer iteration")
-      ->check(ppcr_tools::non_empty())->group(kOutputGroup);
+      ->check(ppcr_tools::non_empty())
+      ->group(kOutputGroup);
   app.add_flag("--json", a->json, "print one JSON object to stdout instead of the matrix")
       ->group(kOutputGroup);
   app.add_flag("--verbose", a->verbose, "per-iteration progress on stderr")->group(kOutputGroup);
@@ -104,9 +109,9 @@ ppcr::Status check_outputs(const Arguments& a) {
     const bool existed = access(path->c_str(), F_OK) == 0;
     std::FILE* f = std::fopen(path->c_str(), "a");
     if (f == nullptr) {
-      return ppcr::Status(ppcr::StatusCode::kIoError, std::string(flag) + " " + *path +
-                                                          ": cannot write: " +
-                                                          std::strerror(errno));
+      return ppcr::Status(
+          ppcr::StatusCode::kIoError,
+          std::string(flag) + " " + *path + ": cannot write: " + std::strerror(errno));
     }
     std::fclose(f);
     if (!existed) std::remove(path->c_str());
@@ -228,8 +233,9 @@ int main(int argc, char** argv) {
   ppcr::PoseErrors gt;
   if (in.has_gt) gt = ppcr::evaluate(in.source, result.T_target_source, in.T_gt);
   if (a.json) {
-    std::printf("%s\n",
-                ppcr_tools::result_json(result, time_ms, in.has_gt ? &gt : nullptr).dump(2).c_str());
+    std::printf(
+        "%s\n",
+        ppcr_tools::result_json(result, time_ms, in.has_gt ? &gt : nullptr).dump(2).c_str());
   }
   if (!result.status.ok()) return fail(ppcr_tools::with_flag_names(result.status).message());
   s = write_outputs(a, in, result);

@@ -66,16 +66,16 @@ struct ExpertOptions {
   double em_min_scale = 0.0;     // kEM fine phase: floor on s, cloud units (>= 0; 0 = none)
 
   // Plane error model.
-  int normal_neighbours = 20;    // target (and source) points per PCA normal fit, [5, 64]
-  double plane_epsilon = 0.05;   // in-plane weight epsilon of Omega, (0, 1]
-  bool source_normals = true;    // pairs use the mean of both clouds' normals (GICP-like)
-  double noise_floor = 0.8;      // kEM: floor s at this multiple of the target's surface noise
-                                 // (RegistrationResult::target_surface_noise); >= 0, 0 = none
+  int normal_neighbours = 20;   // target (and source) points per PCA normal fit, [5, 64]
+  double plane_epsilon = 0.05;  // in-plane weight epsilon of Omega, (0, 1]
+  bool source_normals = true;   // pairs use the mean of both clouds' normals (GICP-like)
+  double noise_floor = 0.8;     // kEM: floor s at this multiple of the target's surface noise
+                                // (RegistrationResult::target_surface_noise); >= 0, 0 = none
 
   // Termination (docs/TERMINATION.md).
-  int fixed_iterations = 100;         // kCriterionFixed: stop at this iteration (>= 1)
-  double cost_drop_threshold = 0.01;  // kCriterionCostDrop: low drop, fraction (paper: 1 %), >= 0
-  int cost_drop_patience = 8;         // kCriterionCostDrop: low iterations tolerated (paper: 10)
+  int fixed_iterations = 100;          // kCriterionFixed: stop at this iteration (>= 1)
+  double cost_drop_threshold = 0.01;   // kCriterionCostDrop: low drop, fraction (paper: 1 %), >= 0
+  int cost_drop_patience = 8;          // kCriterionCostDrop: low iterations tolerated (paper: 10)
   double cost_drop_max_motion = 0.02;  // kCriterionCostDrop: a low iteration must also move the
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule
@@ -85,9 +85,9 @@ struct ExpertOptions {
   int successful_steps_patience = 3;   // kCriterionSuccessfulSteps: low iterations tolerated
 
   // Inner Levenberg-Marquardt.
-  int lm_max_iterations = 50;             // LM steps (accepted + rejected) per solve (>= 1)
-  double lm_function_tolerance = 1e-5;    // a solve ends when an accepted step lowers the cost by
-                                          // less than this fraction (authors: 1e-5), >= 0
+  int lm_max_iterations = 50;           // LM steps (accepted + rejected) per solve (>= 1)
+  double lm_function_tolerance = 1e-5;  // a solve ends when an accepted step lowers the cost by
+                                        // less than this fraction (authors: 1e-5), >= 0
   double lm_fine_function_tolerance = kAutomatic;  // the same in the EM fine phase (>= 0);
                                                    // kAutomatic: 1e-2 capped at the cost-drop
                                                    // threshold with the plane model and the
@@ -105,15 +105,15 @@ struct IterationRecord;
 
 /// What a user sets. Lengths are in cloud units (the units of the points).
 struct RegistrationOptions {
-  double radius = 1.0;        // association radius (> 0): farther target points are ignored
-  int max_neighbours = 6;     // target points associated per source point, k, [1, 1024]
+  double radius = 1.0;     // association radius (> 0): farther target points are ignored
+  int max_neighbours = 6;  // target points associated per source point, k, [1, 1024]
   ErrorModel error_model = ErrorModel::kPlane;
   double dof = 1.25;          // Student-t degrees of freedom nu (> 0; authors: 5)
   double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0; 0 = no filter)
   double target_voxel = 0.0;  // voxel-grid leaf for the target (>= 0; 0 = no filter)
   std::uint32_t criteria = kCriterionCostDrop;  // bitwise OR of Criterion
-  int max_iterations = 100;   // hard cap on outer iterations, whatever the criteria (>= 1)
-  int num_threads = 1;        // threads, [1, 1024]; the result does not depend on it
+  int max_iterations = 100;    // hard cap on outer iterations, whatever the criteria (>= 1)
+  int num_threads = 1;         // threads, [1, 1024]; the result does not depend on it
   bool record_history = true;  // keep one IterationRecord per outer iteration in the result
   /// Called after each outer iteration on the calling thread (progress, time budgets). Return
   /// false to stop (StopReason::kCancelled). Must not throw.

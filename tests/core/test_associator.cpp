@@ -53,8 +53,8 @@ TEST_CASE("Associator: cached and coarse paths give brute force's tables at ever
         a.find(coarse, T);
         INFO("step " << step);
         CHECK(a.coarse() == (coarse && stride > 1));
-        CHECK(a.points().size() == (a.coarse() ? (f.source.size() + stride - 1) / stride
-                                               : f.source.size()));
+        CHECK(a.points().size() ==
+              (a.coarse() ? (f.source.size() + stride - 1) / stride : f.source.size()));
         CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, T, radius * radius) == "");
       }
     }

@@ -9,8 +9,8 @@
 
 #include "association.hpp"
 #include "core_test_util.hpp"
-#include "lm_solver.hpp"
 #include "lm.hpp"
+#include "lm_solver.hpp"
 
 using core_test::Rng;
 using ppcr::LMOptions;

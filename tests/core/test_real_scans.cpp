@@ -191,8 +191,7 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
     o.source_voxel = o.target_voxel = 0.002;
     setting.apply(&o);
     const bool plane = setting.model == ppcr::ErrorModel::kPlane;
-    const RegistrationResult r =
-        ppcr::align(source, target, o);
+    const RegistrationResult r = ppcr::align(source, target, o);
     INFO(setting.name << ": " << describe(r, T_gt) << ", surface noise " << r.target_surface_noise);
     REQUIRE(r.status.ok());
     CHECK(r.converged());

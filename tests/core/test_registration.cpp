@@ -99,7 +99,9 @@ std::vector<BadOption> bad_options() {
       {"max_neighbours 0", [](O& o) { o.max_neighbours = 0; }, {"max_neighbours", "0"}},
       {"max_neighbours -3", [](O& o) { o.max_neighbours = -3; }, {"max_neighbours", "-3"}},
       {"max_neighbours 1025", [](O& o) { o.max_neighbours = 1025; }, {"max_neighbours", "1025"}},
-      {"neighbour_cache -1", [](O& o) { o.expert.neighbour_cache = -1; }, {"neighbour_cache", "-1"}},
+      {"neighbour_cache -1",
+       [](O& o) { o.expert.neighbour_cache = -1; },
+       {"neighbour_cache", "-1"}},
       {"coarse_stride 0", [](O& o) { o.expert.coarse_stride = 0; }, {"coarse_stride", "0"}},
       {"coarse_stride -2", [](O& o) { o.expert.coarse_stride = -2; }, {"coarse_stride", "-2"}},
       {"coarse_stride 65", [](O& o) { o.expert.coarse_stride = 65; }, {"coarse_stride", "65"}},
@@ -126,13 +128,13 @@ std::vector<BadOption> bad_options() {
       {"em_min_scale -1", [](O& o) { o.expert.em_min_scale = -1.0; }, {"em_min_scale", "-1"}},
       {"num_threads 0", [](O& o) { o.num_threads = 0; }, {"num_threads", "0"}},
       {"num_threads -1", [](O& o) { o.num_threads = -1; }, {"num_threads", "-1"}},
-      {"lm.max_iterations 0", [](O& o) { o.expert.lm_max_iterations = 0; }, {"lm_max_iterations", "0"}},
+      {"lm.max_iterations 0",
+       [](O& o) { o.expert.lm_max_iterations = 0; },
+       {"lm_max_iterations", "0"}},
       {"unknown criterion bits",
        [](O& o) { o.criteria = ppcr::kCriterionCostDrop | 16u; },
        {"criteria", "18"}},
-      {"termination.max_iterations 0",
-       [](O& o) { o.max_iterations = 0; },
-       {"max_iterations", "0"}},
+      {"termination.max_iterations 0", [](O& o) { o.max_iterations = 0; }, {"max_iterations", "0"}},
       {"fixed_iterations 0",
        [](O& o) { o.expert.fixed_iterations = 0; },
        {"fixed_iterations", "0"}},
@@ -698,8 +700,7 @@ TEST_CASE("history: one finite row per iteration, consistent with the result", "
   const RegistrationOptions o = scene_options();
   // The source as the registration sees it (no filtering here).
   const Eigen::Isometry3d T_gt = sc.T_true;
-  const RegistrationResult r =
-      ppcr::align(sc.source, sc.target, o);
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
   INFO(describe(r));
   REQUIRE(r.status.ok());
   REQUIRE(r.iterations >= 1);
@@ -736,7 +737,8 @@ TEST_CASE("history: one finite row per iteration, consistent with the result", "
     CHECK(std::abs(std::sqrt(h.mse_prev) - std::sqrt(mse_prev / n)) <
           1e-7 * std::sqrt(mse_prev / n) + 1e-14);
     const ppcr::PoseErrors e = ppcr::evaluate(sc.source, h.T_target_source, T_gt);
-    CHECK(std::abs(std::sqrt(e.mse) - std::sqrt(mse_gt / n)) < 1e-7 * std::sqrt(mse_gt / n) + 1e-14);
+    CHECK(std::abs(std::sqrt(e.mse) - std::sqrt(mse_gt / n)) <
+          1e-7 * std::sqrt(mse_gt / n) + 1e-14);
     CHECK(e.benchmark_error == ppcr::benchmark_error(sc.source, T_gt, h.T_target_source));
     CHECK(e.rotation_error_deg == ppcr::rotation_error_deg(h.T_target_source, T_gt));
     CHECK(e.translation_error == ppcr::translation_error(h.T_target_source, T_gt));
@@ -926,7 +928,8 @@ TEST_CASE(
     REQUIRE(r.status.ok());
     return std::make_pair(r.T_target_source.matrix(), r.lm_iterations);
   };
-  REQUIRE(RegistrationOptions().expert.lm_fine_function_tolerance == ppcr::ExpertOptions::kAutomatic);
+  REQUIRE(RegistrationOptions().expert.lm_fine_function_tolerance ==
+          ppcr::ExpertOptions::kAutomatic);
   const double kAuto = ppcr::ExpertOptions::kAutomatic;
   using ppcr::ErrorModel;
   // Plane model: the same run as 1e-2 given explicitly, to the bit; not the run with it off.
@@ -1019,7 +1022,6 @@ TEST_CASE(
     "to keep 1000 points",
     "[registration]") {
   REQUIRE(RegistrationOptions().expert.coarse_stride == ppcr::ExpertOptions::kAutomatic);
-
 
   // A run's pose, LM steps and first iteration's pairs (the coarse level's, if it had one).
   struct Run {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "weights.hpp"
 #include "scale_schedule.hpp"
+#include "weights.hpp"
 
 using ppcr::ScaleMode;
 using ppcr::WeightOptions;

@@ -142,7 +142,8 @@ inline std::string invariant_violation(const ppcr::RegistrationResult& r,
   if (!is_rigid(r.T_target_source)) return "pose not finite or not rigid";
   if (r.stop_reason == ppcr::StopReason::kNone) return "no stop reason";
   if (r.iterations > o.max_iterations) return "iterations above the cap";
-  if (r.lm_iterations > r.iterations * o.expert.lm_max_iterations) return "LM iterations above the cap";
+  if (r.lm_iterations > r.iterations * o.expert.lm_max_iterations)
+    return "LM iterations above the cap";
   if (o.record_history && static_cast<int>(r.history.size()) != r.iterations) {
     return "history size != iterations";
   }

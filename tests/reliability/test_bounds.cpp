@@ -112,7 +112,8 @@ TEST_CASE("lm.max_iterations bounds each inner problem, and is reached", "[relia
       o.radius = 0.3;
       o.error_model = model;
       o.expert.lm_max_iterations = lm_cap;
-      o.expert.lm_function_tolerance = 0.0;       // only the cap (or a rejected run of steps) stops the LM
+      o.expert.lm_function_tolerance =
+          0.0;  // only the cap (or a rejected run of steps) stops the LM
       o.expert.lm_fine_function_tolerance = 0.0;  // in the EM fine phase too (its default is 1e-2)
       o.max_iterations = 20;
       const RegistrationResult r = ppcr::align(source, target, o);

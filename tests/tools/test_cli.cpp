@@ -58,7 +58,8 @@ void write_pair() {
 }
 
 const std::string& pair_args() {
-  static const std::string args = "'" + kDir + "/source.xyz' '" + kDir + "/target.xyz' --radius 0.1";
+  static const std::string args =
+      "'" + kDir + "/source.xyz' '" + kDir + "/target.xyz' --radius 0.1";
   return args;
 }
 

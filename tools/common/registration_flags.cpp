@@ -11,8 +11,7 @@ namespace ppcr_tools {
 namespace {
 
 ppcr::Status bad(const std::string& flag, const std::string& value, const std::string& why) {
-  return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
-                      flag + " '" + value + "': " + why);
+  return ppcr::Status(ppcr::StatusCode::kInvalidArgument, flag + " '" + value + "': " + why);
 }
 
 std::string str(double v) {
@@ -28,7 +27,6 @@ bool parse_finite(const std::string& text, double* v) {
   *v = std::strtod(text.c_str(), &end);
   return !text.empty() && *end == '\0' && errno == 0 && std::isfinite(*v);
 }
-
 
 template <class T>
 CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string& help,
@@ -104,14 +102,14 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
         "em: settled iterations ending the coarse phase (default " +
             std::to_string(e.em_coarse_patience) + ")",
         kExpertGroup);
-  value(app, "--scale-shrink", &e.em_min_shrink,
-        "em: s^2 shrinks by at most this factor per iteration (default " +
-            str(e.em_min_shrink) + ")",
-        kExpertGroup);
-  value(app, "--plane-epsilon", &e.plane_epsilon,
-        "plane: in-plane weight of Omega = n n^T + epsilon I (default " + str(e.plane_epsilon) +
-            ")",
-        kExpertGroup);
+  value(
+      app, "--scale-shrink", &e.em_min_shrink,
+      "em: s^2 shrinks by at most this factor per iteration (default " + str(e.em_min_shrink) + ")",
+      kExpertGroup);
+  value(
+      app, "--plane-epsilon", &e.plane_epsilon,
+      "plane: in-plane weight of Omega = n n^T + epsilon I (default " + str(e.plane_epsilon) + ")",
+      kExpertGroup);
   value(app, "--normal-neighbours", &e.normal_neighbours,
         "plane: points per normal fit (default " + std::to_string(e.normal_neighbours) + ")",
         kExpertGroup);
@@ -129,8 +127,8 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
             str(e.cost_drop_max_motion) + "; 0 = the paper's rule)",
         kExpertGroup);
   value(app, "--neighbour-cache", &e.neighbour_cache,
-        "extra candidates cached per source point (default " +
-            std::to_string(e.neighbour_cache) + "; 0 = none; same result either way)",
+        "extra candidates cached per source point (default " + std::to_string(e.neighbour_cache) +
+            "; 0 = none; same result either way)",
         kExpertGroup);
   value(app, "--coarse-stride", &f->coarse_stride,
         "em: register every n-th source point in the coarse phase: auto (2 with the plane "
@@ -224,22 +222,30 @@ ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::Registra
 
 ppcr::Status with_flag_names(const ppcr::Status& s) {
   static const std::pair<const char*, const char*> kFields[] = {
-      {"expert.scale (fixed scale)", "--scale"}, {"expert.scale", "--coarse-scale"},
+      {"expert.scale (fixed scale)", "--scale"},
+      {"expert.scale", "--coarse-scale"},
       {"expert.em_coarse_patience", "--coarse-patience"},
-      {"expert.em_min_shrink", "--scale-shrink"}, {"expert.em_min_scale", "--min-scale"},
+      {"expert.em_min_shrink", "--scale-shrink"},
+      {"expert.em_min_scale", "--min-scale"},
       {"expert.normal_neighbours", "--normal-neighbours"},
-      {"expert.plane_epsilon", "--plane-epsilon"}, {"expert.noise_floor", "--noise-floor"},
+      {"expert.plane_epsilon", "--plane-epsilon"},
+      {"expert.noise_floor", "--noise-floor"},
       {"expert.fixed_iterations", "--max-iterations"},
       {"expert.cost_drop_threshold", "--cost-drop-threshold"},
       {"expert.cost_drop_patience", "--patience"},
       {"expert.cost_drop_max_motion", "--motion-guard"},
-      {"expert.mse_ratio_threshold", "--mse-ratio"}, {"expert.mse_patience", "--mse-patience"},
+      {"expert.mse_ratio_threshold", "--mse-ratio"},
+      {"expert.mse_patience", "--mse-patience"},
       {"expert.successful_steps_threshold", "--steps-threshold"},
       {"expert.lm_function_tolerance", "--lm-tolerance"},
-      {"expert.neighbour_cache", "--neighbour-cache"}, {"radius", "--radius"},
-      {"max_neighbours", "--max-neighbours"}, {"dof", "--dof"},
-      {"source_voxel", "--source-voxel"}, {"target_voxel", "--target-voxel"},
-      {"max_iterations", "--max-iterations"}, {"num_threads", "--threads"}};
+      {"expert.neighbour_cache", "--neighbour-cache"},
+      {"radius", "--radius"},
+      {"max_neighbours", "--max-neighbours"},
+      {"dof", "--dof"},
+      {"source_voxel", "--source-voxel"},
+      {"target_voxel", "--target-voxel"},
+      {"max_iterations", "--max-iterations"},
+      {"num_threads", "--threads"}};
   const std::string& message = s.message();
   for (const auto& [field, flag] : kFields) {
     const std::string prefix = std::string(field) + " ";

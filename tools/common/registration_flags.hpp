@@ -15,17 +15,18 @@ namespace ppcr_tools {
 struct RegistrationFlags {
   ppcr::RegistrationOptions options;
   bool gaussian = false;
-  std::string scale = "em";              // em | raw | <s>
-  std::string criterion = "cost-drop";   // comma-separated list
-  std::string error_model = "plane";     // plane | point
-  std::string coarse_stride = "auto";    // auto | integer
+  std::string scale = "em";                // em | raw | <s>
+  std::string criterion = "cost-drop";     // comma-separated list
+  std::string error_model = "plane";       // plane | point
+  std::string coarse_stride = "auto";      // auto | integer
   std::string lm_fine_tolerance = "auto";  // auto | number
 };
 
 /// The help groups, in the order --help shows them.
 constexpr const char* kRegistrationGroup = "Registration";
 constexpr const char* kTerminationGroup = "Termination";
-constexpr const char* kExpertGroup = "Expert (research and speed; the defaults are the measured best)";
+constexpr const char* kExpertGroup =
+    "Expert (research and speed; the defaults are the measured best)";
 
 /// Refuses an empty value (CLI11 would read '' as 0 or as "not set").
 const CLI::Validator& non_empty();

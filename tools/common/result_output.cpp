@@ -1,11 +1,10 @@
 // result_output.cpp - JSON, trace CSV and matrix text of a registration result.
 #include "common/result_output.hpp"
 
-#include <cstdio>
-#include <fstream>
-
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
 
 namespace ppcr_tools {
 
