@@ -28,10 +28,11 @@ import sys
 import numpy as np
 
 TRACE_COLUMNS = [
-    "iteration", "successful_steps", "unsuccessful_steps", "initial_cost", "final_cost",
+    "iteration", "phase", "successful_steps", "unsuccessful_steps", "initial_cost", "final_cost",
     "cost_drop", "mse_prev", "mse_ground_truth", "benchmark_error", "scale", "correspondences",
-    "matched_source_points", "tx", "ty", "tz", "qx", "qy", "qz", "qw", "lists_reused", "time_ms",
+    "matched_source_points", "tx", "ty", "tz", "qx", "qy", "qz", "qw", "time_ms",
 ]
+PHASES = {"coarse": 1.0, "fine": 0.0}  # the phase column, as a number (1: the EM coarse phase)
 REQUIRED = ["iteration", "successful_steps", "initial_cost", "final_cost", "cost_drop",
             "mse_prev", "scale"]
 
@@ -65,6 +66,9 @@ def read_trace(path):
             raise StudyError(f"{path}:{n}: {len(row)} fields, expected {len(header)}")
         for h, v in zip(header, row):
             v = v.strip()
+            if h == "phase" and v in PHASES:
+                data[h].append(PHASES[v])
+                continue
             try:
                 data[h].append(float(v) if v else math.nan)
             except ValueError:

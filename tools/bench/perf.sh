@@ -73,7 +73,7 @@ echo "== end-to-end: ppcr_bench, first $limit problems per set, 1 and 2 threads"
 } >>"$md"
 for s in bunny lidar; do
   proto=$(bench_protocol "$s")  # tools/bench/protocol.txt
-  for run in "defaults|1|" "defaults|2|" "--reassociate-motion 0.05|1|--reassociate-motion 0.05"; do
+  for run in "defaults|1|" "defaults|2|"; do
     IFS='|' read -r name t extra <<<"$run"
     tag="bench_${s}_t${t}_${extra//[^0-9a-z]/}"
     # shellcheck disable=SC2086
