@@ -1,8 +1,10 @@
 // The README's example, built by tests/consumer as an outside project (find_package and
-// add_subdirectory): register a curved surface moved by a known transform and check the result.
+// add_subdirectory) linking ppcr::ppcr and ppcr::io: register a curved surface, read from a file,
+// moved by a known transform, and check the result.
 #include <cmath>
 #include <cstdio>
-
+#include <filesystem>
+#include <ppcr/io.hpp>
 #include <ppcr/ppcr.hpp>
 
 int main() {
@@ -15,13 +17,21 @@ int main() {
   T_true.translation() << 0.03, -0.02, 0.01;
   ppcr::PointCloud source;
   for (const Eigen::Vector3d& p : target) source.push_back(T_true.inverse() * p);
+  // Through a file, as a user's clouds come.
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ppcr_consumer_target.ply").string();
+  ppcr::Status s = ppcr::io::write_cloud(path, target);
+  ppcr::PointCloud target_read;
+  if (s.ok()) s = ppcr::io::read_cloud(path, &target_read);
+  std::filesystem::remove(path);
+  if (!s.ok()) return std::printf("%s\n", s.to_string().c_str()), 1;
 
   ppcr::RegistrationOptions options;
   options.radius = 0.1;  // metres: larger than the initial misalignment
-  const ppcr::RegistrationResult r = ppcr::align(source, target, options);
+  const ppcr::RegistrationResult r = ppcr::align(source, target_read, options);
   if (!r.status.ok()) return std::printf("%s\n", r.status.to_string().c_str()), 1;
   const double rot = ppcr::rotation_error_deg(r.T_target_source, T_true);
-  std::printf("%d iterations (%s), rotation error %.2e deg\n", r.iterations,
-              ppcr::to_string(r.stop_reason), rot);
+  std::printf("%d iterations (%s), fitness %.3f, rotation error %.2e deg\n", r.iterations,
+              ppcr::to_string(r.stop_reason), r.fitness, rot);
   return rot < 0.01 ? 0 : 1;
 }
