@@ -1,8 +1,9 @@
-// footprints.hpp - placing the footprints of objects (discs on a floor or a table) so that they
-// avoid each other when they can.
+// footprints.hpp - placing objects on a floor or a table: their footprints (discs) avoid each
+// other when they can, and they stand upright, turned about the vertical axis.
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 #include "ppcr/abi.hpp"
@@ -11,6 +12,11 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace internal {
+
+/// The rotation by yaw (radians) about the vertical axis z: how objects stand on a floor or table.
+inline Eigen::Matrix3d yaw_matrix(double yaw) {
+  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
 
 class FootprintPlanner {
  public:

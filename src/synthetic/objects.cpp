@@ -25,10 +25,6 @@ constexpr double kHalfY = 0.45;
 constexpr double kPlacementRadius = 0.4;  // object footprints stay within this of the centre
 constexpr double kPi = Rng::kPi;
 
-Eigen::Matrix3d yaw_matrix(double yaw) {
-  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
-
 /// Places footprints (discs on the table) within kPlacementRadius of its centre, avoiding the
 /// footprints already placed when it can.
 class TablePlanner {

@@ -26,10 +26,6 @@ constexpr double kMidpointJitter = 0.3;  // the sensors' midpoint is within +-0.
 constexpr double kClearRadius = 2.3;
 constexpr double kPi = Rng::kPi;
 
-Eigen::Matrix3d yaw_matrix(double yaw) {
-  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
-
 /// Places footprints (discs on the floor) inside the room, outside the clear disc, avoiding the
 /// footprints already placed when it can.
 class FloorPlanner {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "footprints.hpp"
 #include "random.hpp"
 #include "scene.hpp"
 
@@ -26,10 +27,6 @@ constexpr double kDepth = 12.0;
 constexpr double kSidewalk = 8.6;
 constexpr double kSensorHeight = 1.8;
 constexpr double kPi = Rng::kPi;
-
-Eigen::Matrix3d yaw_matrix(double yaw) {
-  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-}
 
 void add_building_row(double side, Rng* rng, Scene* scene) {
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
