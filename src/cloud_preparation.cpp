@@ -56,27 +56,51 @@ void center(PreparedCloud* out) {
   out->centered.resize(kept);
 }
 
+double max_abs(const PointCloud& centered) {
+  double extent = 0.0;
+  for (const Eigen::Vector3d& c : centered) extent = std::max(extent, c.cwiseAbs().maxCoeff());
+  return extent;
+}
+
 // A 2 m scene 1e14 m from the coordinate origin has steps of 2 cm: refused. A cloud whose points
 // all round to one value is accepted (a cloud of identical points).
 Status check_resolution(const char* name, const PreparedCloud& cloud) {
-  double extent = 0.0;
-  for (const Eigen::Vector3d& c : cloud.centered)
-    extent = std::max(extent, c.cwiseAbs().maxCoeff());
   const double distance = cloud.origin.cwiseAbs().maxCoeff();
   const double resolution = distance * std::numeric_limits<double>::epsilon();
-  if (extent > 0.0 && resolution > 1e-3 * extent) {
+  if (cloud.extent > 0.0 && resolution > 1e-3 * cloud.extent) {
     return Status(StatusCode::kInvalidArgument,
                   std::string(name) + " lies ~" + num(distance) +
                       " from the coordinate origin, where doubles resolve only " + num(resolution) +
-                      ", more than a thousandth of its extent " + num(extent) +
+                      ", more than a thousandth of its extent " + num(cloud.extent) +
                       ": shift both clouds nearer the origin");
   }
   return Status::Ok();
 }
 
+// Divides the centred points by out->unit, dropping those whose squared norm then overflows (a
+// source far outside the target's scale).
+void divide_by_unit(PreparedCloud* out) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < out->points.size(); ++i) {
+    const Eigen::Vector3d c = out->centered[i] / out->unit;
+    if (!std::isfinite(c.squaredNorm())) continue;
+    out->points[kept] = out->points[i];
+    out->centered[kept] = c;
+    ++kept;
+  }
+  out->dropped += out->points.size() - kept;
+  out->points.resize(kept);
+  out->centered.resize(kept);
+}
+
 }  // namespace
 
-Status prepare_cloud(const PointCloud& in, double voxel, const char* name, PreparedCloud* out) {
+double internal_unit(double radius, double target_extent) {
+  return target_extent > 0.0 ? std::min(radius, target_extent) : radius;
+}
+
+Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
+                     const char* name, PreparedCloud* out) {
   out->points.clear();
   out->points.reserve(in.size());
   for (const Eigen::Vector3d& p : in) {
@@ -93,8 +117,25 @@ Status prepare_cloud(const PointCloud& in, double voxel, const char* name, Prepa
   if (out->points.size() < 3)
     return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
   center(out);
+  out->extent = max_abs(out->centered);
   Status s = check_resolution(name, *out);
   if (!s.ok()) return s;
+  out->unit = unit > 0.0 ? unit : internal_unit(radius, out->extent);
+  if (!(out->unit >= std::numeric_limits<double>::min())) {
+    return Status(StatusCode::kInvalidArgument,
+                  "radius " + num(radius) + ": lengths this small (the " + name +
+                      "'s internal unit " + num(out->unit) +
+                      ") are subnormal in double precision; express the clouds in larger units");
+  }
+  const std::size_t before = out->points.size();
+  divide_by_unit(out);
+  if (out->points.size() < 3 && out->points.size() < before) {
+    return Status(StatusCode::kInvalidArgument,
+                  "radius " + num(radius) + " is too small for the " + name + ", which spans " +
+                      num(out->extent) + ": in units of " + num(out->unit) +
+                      " its squared distances overflow a double; express the clouds in other "
+                      "units or raise the radius");
+  }
   if (out->points.size() < 3)
     return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
   return Status::Ok();

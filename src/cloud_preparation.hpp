@@ -1,10 +1,14 @@
 // cloud_preparation.hpp - from a user's cloud to the points the solver works on: non-finite
-// points dropped, voxel-filtered, and shifted into the internal frame.
+// points dropped, voxel-filtered, and moved into the internal frame.
 //
 // Internal frame: each cloud is shifted by its per-axis median point o, so that coordinates are
 // small even for georeferenced clouds and the left-perturbation twist acts about the middle of
-// the target's data (a median, unlike a mean, is not dragged away by a few absurd points). A pose
-// T in that frame maps to T_target_source = Tr(o_target) * T * Tr(-o_source).
+// the target's data (a median, unlike a mean, is not dragged away by a few absurd points), and
+// divided by one length u shared by both clouds (internal_unit()), so that the solver sees the
+// same numbers whatever the clouds' units: a pair in millimetres and the same pair in
+// kilometres differ inside only by rounding. With S_u the scaling by u, a pose T in that frame
+// maps to T_target_source = Tr(o_target) * S_u * T * S_u^-1 * Tr(-o_source): the same rotation,
+// the translation multiplied by u.
 #pragma once
 
 #include <Eigen/Core>
@@ -21,16 +25,27 @@ namespace detail {
 
 struct PreparedCloud {
   PointCloud points;    // kept points, in the user's frame
-  PointCloud centered;  // the same points minus origin
+  PointCloud centered;  // the same points in the internal frame: (p - origin) / unit
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double unit = 1.0;            // internal length unit, in cloud units
+  double extent = 0.0;          // max |p - origin| per axis over the kept points, cloud units
   std::size_t dropped = 0;      // non-finite, or too far from the origin for a finite squared norm
   std::vector<double> scratch;  // for the median, kept so that a same-size cloud allocates nothing
 };
 
-/// Prepares `in` into *out (its buffers reused). name ("source" or "target") prefixes every
-/// message. Fails with kEmptyCloud below 3 usable points and with kInvalidArgument for a cloud so
-/// far from the coordinate origin that a double cannot resolve a thousandth of its extent there.
-Status prepare_cloud(const PointCloud& in, double voxel, const char* name, PreparedCloud* out);
+/// The internal length unit for a registration with this radius onto a target of this extent
+/// (PreparedCloud::extent): the radius, or the target's extent when that is smaller (a radius of
+/// 1e6 m on a 2 m cloud means "no radius", and must not shrink the clouds to 1e-6).
+double internal_unit(double radius, double target_extent);
+
+/// Prepares `in` into *out (its buffers reused): drops non-finite points, filters, centres and
+/// divides by `unit` (> 0), or by internal_unit(radius, extent) of this very cloud when `unit`
+/// is 0 (the target). name ("source" or "target") prefixes every message. Fails with
+/// kEmptyCloud below 3 usable points, and with kInvalidArgument for a cloud so far from the
+/// coordinate origin that a double cannot resolve a thousandth of its extent there or for a
+/// unit a double cannot divide by (subnormal).
+Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
+                     const char* name, PreparedCloud* out);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -1,6 +1,7 @@
 // registration.cpp - the outer loop (paper Sec. 3.2): associate, solve the inner problem (E-step
 // weights and LM, Sec. 3.1), ask the termination criterion; set-up and summary in named helpers.
-// The clouds live in the internal frame of cloud_preparation.hpp.
+// The solver works in the internal frame of cloud_preparation.hpp (centred, lengths in the unit
+// u): poses, costs and scales are mapped back to the user's frame and units for the result.
 #include "ppcr/registration.hpp"
 
 #include <algorithm>
@@ -31,22 +32,31 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using detail::num;
 
-Eigen::Isometry3d translation(const Eigen::Vector3d& t) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = t;
-  return T;
-}
-
-// Poses between the user's frames and the internal one (cloud_preparation.hpp).
+// Poses and lengths between the user's frames and units and the internal ones
+// (cloud_preparation.hpp): T_user = Tr(o_target) S_u T S_u^-1 Tr(-o_source).
 struct Frame {
-  Eigen::Isometry3d to_target, from_source;
-  Frame(const Eigen::Vector3d& target_origin, const Eigen::Vector3d& source_origin)
-      : to_target(translation(target_origin)), from_source(translation(-source_origin)) {}
+  Eigen::Vector3d target_origin, source_origin;
+  double unit;
   Eigen::Isometry3d external(const Eigen::Isometry3d& T) const {
-    return to_target * T * from_source;
+    Eigen::Isometry3d E = T;
+    E.translation() = unit * T.translation() + target_origin - T.linear() * source_origin;
+    return E;
   }
   Eigen::Isometry3d internal(const Eigen::Isometry3d& T) const {
-    return to_target.inverse() * T * from_source.inverse();
+    Eigen::Isometry3d I = T;
+    I.translation() = (T.translation() - target_origin + T.linear() * source_origin) / unit;
+    return I;
+  }
+  double length(double internal_length) const { return unit * internal_length; }
+  double area(double internal_area) const { return unit * unit * internal_area; }
+  // The information of a twist (omega, v): v in cloud units is u times v in internal units, and
+  // the cost (squared lengths) u^2 times the internal one, so H = S H_internal S, S = diag(u I, I).
+  detail::Matrix6d information(const detail::Matrix6d& H) const {
+    detail::Matrix6d E = H;
+    E.topLeftCorner<3, 3>() *= unit * unit;
+    E.topRightCorner<3, 3>() *= unit;
+    E.bottomLeftCorner<3, 3>() *= unit;
+    return E;
   }
 };
 
@@ -80,7 +90,8 @@ RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
 }  // namespace
 
 struct Registration::Impl {
-  RegistrationOptions options;
+  RegistrationOptions options;  // the user's
+  RegistrationOptions solver;   // the same in the internal unit of the current target
   Status options_status;
   bool has_target = false;
   detail::PreparedCloud target;
@@ -104,9 +115,9 @@ struct Registration::Impl {
   detail::LMProblem problem(double step_reference, double source_extent) const;
   Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
   LMSummary solve(Run* run, bool coarse, Eigen::Isometry3d* T);
-  Status no_pairs(const Eigen::Isometry3d& T_initial, const Frame& frame) const;
+  Status no_pairs(const Eigen::Isometry3d& T_initial) const;
   IterationRecord record(int t, bool coarse, double scale_sq, const LMSummary& summary,
-                         const TerminationMonitor& monitor, const Eigen::Isometry3d& T,
+                         const Run& run, const Eigen::Isometry3d& T_target_source,
                          Clock::time_point start) const;
   void summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                  RegistrationResult* result);
@@ -124,11 +135,13 @@ const RegistrationOptions& Registration::options() const { return impl_->options
 
 Status Registration::set_target(const PointCloud& target) {
   Impl& m = *impl_;
-  const RegistrationOptions& o = m.options;
   m.has_target = false;
   if (!m.options_status.ok()) return m.options_status;
-  Status s = detail::prepare_cloud(target, o.target_voxel, "target", &m.target);
+  Status s = detail::prepare_cloud(target, m.options.target_voxel, m.options.radius, 0.0, "target",
+                                   &m.target);
   if (!s.ok()) return s;
+  m.solver = detail::in_internal_units(m.options, m.target.unit);
+  const RegistrationOptions& o = m.solver;
   // Z-order: a source point's neighbours lie near each other in memory (spatial_order.hpp).
   detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
   s = m.tree.build(m.target.centered);
@@ -163,14 +176,15 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
-  Status s = detail::prepare_cloud(cloud, options.source_voxel, "source", &source);
+  Status s = detail::prepare_cloud(cloud, options.source_voxel, options.radius, target.unit,
+                                   "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   detail::spatial_sort(&source.centered, &source.points, &sort_scratch);
   result->source_points = source.points.size();
   result->target_points = target.points.size();
   result->target_non_finite = target.dropped;
-  result->target_surface_noise = target_surface_noise;
+  result->target_surface_noise = target.unit * target_surface_noise;
   const bool pair_normals =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   if (!pair_normals) return Status::Ok();
@@ -185,9 +199,9 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
   detail::LMProblem p;
   p.target = &target.centered;
   p.assoc = &associator.table();
-  p.weights = detail::weight_params(options);
-  p.plane = options.error_model == ErrorModel::kPlane ? &plane : nullptr;
-  p.num_threads = options.num_threads;
+  p.weights = detail::weight_params(solver);
+  p.plane = solver.error_model == ErrorModel::kPlane ? &plane : nullptr;
+  p.num_threads = solver.num_threads;
   p.step_reference = step_reference;
   p.source_extent = source_extent;
   return p;
@@ -196,8 +210,8 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
 // Everything one align() needs beside the clouds, set up before the loop.
 struct Registration::Impl::Run {
   Frame frame;
-  double reference_length;  // the radius, or the source's extent if smaller
-  CloudMoments moments;     // of the source, for the MSE w.r.t. the previous pose
+  double reference_length;  // the radius, or the source's extent if smaller (internal unit)
+  CloudMoments moments;     // of the internal source, for the MSE w.r.t. the previous pose
   TerminationMonitor monitor;
   detail::ScaleSchedule scale;
   detail::LMProblem problem;
@@ -206,12 +220,12 @@ struct Registration::Impl::Run {
   double previous_tolerance;  // the last solve's
 };
 
-// Sizes and configures every unit for the prepared source. Lengths are relative to the radius
-// unless it exceeds the source's extent (a radius of 1e6 m on a 2 m cloud means "no radius", not
-// "steps of 0.1 m are negligible").
+// Sizes and configures every unit for the prepared source, in the internal frame. Lengths are
+// relative to the radius unless it exceeds the source's extent (a radius of 1e6 m on a 2 m cloud
+// means "no radius", not "steps of 0.1 m are negligible").
 Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_initial,
                                                   RegistrationResult* result) {
-  const RegistrationOptions& o = options;
+  const RegistrationOptions& o = solver;
   result->T_target_source = T_initial;  // until an iteration moves it
   double extent_sq = 0.0;
   for (const Eigen::Vector3d& c : source.centered) extent_sq = std::max(extent_sq, c.squaredNorm());
@@ -225,13 +239,14 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   plane.pair_normals = associator.pair_normals();
   lm.resize(n, o.max_neighbours);
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
-  const CloudMoments moments = compute_moments(source.points);
+  const CloudMoments moments = compute_moments(source.centered);
   const LMOptions coarse_lm = detail::lm_options(o);
+  const Frame frame{target.origin, source.origin, target.unit};
   return Run{
-      Frame(target.origin, source.origin),
+      frame,
       reference_length,
       moments,
-      TerminationMonitor(detail::termination_criteria(o), moments, T_initial),
+      TerminationMonitor(detail::termination_criteria(o), moments, frame.internal(T_initial)),
       detail::ScaleSchedule(detail::schedule_options(o, target_surface_noise), reference_length),
       problem(reference_length, source_extent),
       coarse_lm,
@@ -253,12 +268,12 @@ LMSummary Registration::Impl::solve(Run* run, bool coarse, Eigen::Isometry3d* T)
   return lm.solve(lm_options, run->problem, T);
 }
 
-Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial, const Frame& frame) const {
+Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
   return Status(StatusCode::kNoCorrespondences,
                 "no source point has a target point within radius " + num(options.radius) +
                     "; source (moved by the initial guess) spans " +
                     extent(source.points, T_initial) + ", target spans " +
-                    extent(target.centered, frame.to_target));
+                    extent(target.points, Eigen::Isometry3d::Identity()));
 }
 
 RegistrationResult Registration::align(const PointCloud& source,
@@ -280,14 +295,14 @@ RegistrationResult Registration::align(const PointCloud& source,
     result.correspondences = pairs.pairs;
     if (pairs.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
-      if (t == 1) result.status = m.no_pairs(T_initial, run.frame);
+      if (t == 1) result.status = m.no_pairs(T_initial);
       break;
     }
     const LMSummary lm = m.solve(&run, coarse, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;
-    if (t == 1) result.initial_cost = lm.initial_cost;
-    result.final_cost = lm.final_cost;
+    if (t == 1) result.initial_cost = run.frame.area(lm.initial_cost);
+    result.final_cost = run.frame.area(lm.final_cost);
     result.T_target_source = run.frame.external(T);
     result.iterations = t;
     // The criterion (Sec. 3.2), then the EM scale's M-step at the final pose:
@@ -295,13 +310,13 @@ RegistrationResult Registration::align(const PointCloud& source,
     const double scale_sq = run.scale.scale_sq();
     reason = lm.termination == LMTermination::kNumericalFailure
                  ? StopReason::kNumericalFailure
-                 : run.monitor.update(IterationReport{t, lm, result.T_target_source,
-                                                      run.reference_length, run.scale.settling()});
+                 : run.monitor.update(
+                       IterationReport{t, lm, T, run.reference_length, run.scale.settling()});
     run.scale.update(run.monitor.last_cost_drop(), std::sqrt(run.monitor.last_mse_prev()),
                      2.0 * lm.final_cost / (3.0 * static_cast<double>(pairs.matched)));
     if (m.options.record_history || m.options.on_iteration) {
       const IterationRecord r =
-          m.record(t, coarse, scale_sq, lm, run.monitor, result.T_target_source, start);
+          m.record(t, coarse, scale_sq, lm, run, result.T_target_source, start);
       if (m.options.on_iteration && !m.options.on_iteration(r) && reason == StopReason::kNone) {
         reason = StopReason::kCancelled;
       }
@@ -313,8 +328,7 @@ RegistrationResult Registration::align(const PointCloud& source,
 }
 
 IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
-                                           const LMSummary& summary,
-                                           const TerminationMonitor& monitor,
+                                           const LMSummary& summary, const Run& run,
                                            const Eigen::Isometry3d& T_target_source,
                                            Clock::time_point start) const {
   IterationRecord r;
@@ -322,11 +336,11 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
   r.coarse = coarse;
   r.successful_steps = summary.successful_steps;
   r.unsuccessful_steps = summary.unsuccessful_steps;
-  r.initial_cost = summary.initial_cost;
-  r.final_cost = summary.final_cost;
-  r.cost_drop = monitor.last_cost_drop();
-  r.mse_prev = monitor.last_mse_prev();
-  r.scale = std::sqrt(scale_sq);
+  r.initial_cost = run.frame.area(summary.initial_cost);
+  r.final_cost = run.frame.area(summary.final_cost);
+  r.cost_drop = run.monitor.last_cost_drop();
+  r.mse_prev = run.frame.area(run.monitor.last_mse_prev());
+  r.scale = run.frame.length(std::sqrt(scale_sq));
   r.correspondences = associator.table().pairs;
   r.matched_source_points = associator.table().matched;
   r.T_target_source = T_target_source;
@@ -345,17 +359,17 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
                "non-finite cost or step in outer iteration " + std::to_string(result->iterations));
   }
   result->stop_reason = reason;
-  result->scale = std::sqrt(run.scale.scale_sq());
-  result->information = lm.last().H;
+  result->scale = run.frame.length(std::sqrt(run.scale.scale_sq()));
+  result->information = run.frame.information(lm.last().H);
   if (result->iterations == 0) return;
   const Clock::time_point start = Clock::now();
   const bool source_indexed =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      options.radius, options.num_threads, &quality_scratch);
+      solver.radius, options.num_threads, &quality_scratch);
   result->fitness = q.fitness;
-  result->inlier_rmse = q.inlier_rmse;
+  result->inlier_rmse = run.frame.length(q.inlier_rmse);
   result->overlap = q.overlap;
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (options.error_model != ErrorModel::kPlane) return;

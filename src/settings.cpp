@@ -13,6 +13,21 @@ constexpr int kPlaneCoarseStride = 2;
 constexpr std::size_t kMinCoarsePoints = 1000;
 }  // namespace
 
+RegistrationOptions in_internal_units(const RegistrationOptions& o, double unit) {
+  RegistrationOptions n = o;
+  n.on_iteration = nullptr;  // the caller keeps the user's
+  n.radius = o.radius / unit;
+  ExpertOptions& e = n.expert;
+  if (e.scale_mode == ScaleMode::kRaw) {
+    e.scale_mode = ScaleMode::kFixed;
+    e.scale = 1.0 / unit;
+  } else {
+    e.scale = o.expert.scale / unit;
+  }
+  e.em_min_scale = o.expert.em_min_scale / unit;
+  return n;
+}
+
 WeightParams weight_params(const RegistrationOptions& o) {
   WeightParams p;
   p.model = o.expert.weight_model;

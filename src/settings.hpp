@@ -15,6 +15,11 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+/// The options with every length divided by `unit` (cloud_preparation.hpp's internal frame): the
+/// radius, the E-step scales and the scale floor. ScaleMode::kRaw's s = 1 cloud unit becomes the
+/// fixed scale 1 / unit. The voxel leaves are applied before the change of unit and kept.
+RegistrationOptions in_internal_units(const RegistrationOptions& o, double unit);
+
 /// The E-step's model and dof (the scale is the schedule's).
 WeightParams weight_params(const RegistrationOptions& o);
 

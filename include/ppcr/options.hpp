@@ -103,7 +103,9 @@ struct ExpertOptions {
 
 struct IterationRecord;
 
-/// What a user sets. Lengths are in cloud units (the units of the points).
+/// What a user sets. Lengths are in cloud units (the units of the points), whatever they are:
+/// the solver divides every length by the radius (or the target's extent when smaller), so the
+/// same pair in millimetres or kilometres, lengths scaled alike, gives the same rotation.
 struct RegistrationOptions {
   double radius = 1.0;     // association radius (> 0): farther target points are ignored
   int max_neighbours = 6;  // target points associated per source point, k, [1, 1024]
