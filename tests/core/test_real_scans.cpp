@@ -251,3 +251,44 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
     }
   }
 }
+
+// Units never change the answer (the solver works in units of the radius): the bunny pair with
+// its benchmark radius and voxels, every length scaled by c. In double precision the scaled pair
+// is the same problem to rounding; stored as float32 (as most files are), each scale rounds the
+// coordinates differently, a relative change of ~6e-8.
+TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and float32", "[real]") {
+  const PointCloud target = load_cloud("bunny/bun000.ply");
+  const PointCloud source = load_cloud("bunny/bun045.ply");
+  const Eigen::Isometry3d T_gt = load_transform("bunny/bun045_gt.txt");
+  auto scaled = [](const PointCloud& cloud, double c, bool as_float) {
+    PointCloud out(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      out[i] = c * cloud[i];
+      if (as_float) out[i] = out[i].cast<float>().cast<double>();
+    }
+    return out;
+  };
+  RegistrationOptions o;
+  o.radius = 0.02;
+  o.source_voxel = o.target_voxel = 0.002;
+  const RegistrationResult ref = ppcr::align(source, target, o);
+  INFO(describe(ref, T_gt));
+  REQUIRE(ref.converged());
+  REQUIRE(ppcr::rotation_error_deg(ref.T_target_source, T_gt) < 0.5);
+  for (bool as_float : {false, true}) {
+    for (double c : {1e-12, 1e-9, 1e-3, 1e3, 1e9, 1e12}) {
+      RegistrationOptions oc = o;
+      oc.radius = c * o.radius;
+      oc.source_voxel = oc.target_voxel = c * o.source_voxel;
+      const RegistrationResult r =
+          ppcr::align(scaled(source, c, as_float), scaled(target, c, as_float), oc);
+      INFO((as_float ? "float32" : "double") << ", scale " << c << ": " << describe(r, T_gt));
+      REQUIRE(r.converged());
+      // The angle between the two rotations, radians (|R1 - R2|_F = 2 sqrt(2) sin(angle / 2)).
+      const double angle =
+          2.0 * std::asin((r.T_target_source.linear() - ref.T_target_source.linear()).norm() /
+                          (2.0 * std::sqrt(2.0)));
+      CHECK(angle < (as_float ? 1e-6 : 1e-9));
+    }
+  }
+}
