@@ -3,7 +3,8 @@
 # nanoflann the main build used (optional, passed on when set): nanoflann_DIR (its CMake package)
 # or NANOFLANN_INCLUDE_DIR (the folder of its header, third_party/cmake/Findnanoflann.cmake),
 # and CXX_COMPILER and CXX_FLAGS, the main build's compiler and CMAKE_CXX_FLAGS, which compile the
-# consumers.
+# consumers; PROGRAMS, the executables the main build made (comma-separated), which the install
+# must hold.
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -13,6 +14,19 @@ function(run)
 endfunction()
 file(REMOVE_RECURSE ${WORK_DIR})
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+
+# The install holds the programs built, and the headers of the installed libraries only: ppcr's
+# and ppcr_io's, not ppcr_synthetic's (that library is not installed).
+string(REPLACE "," ";" programs "${PROGRAMS}")
+foreach(program ${programs})
+  if(NOT EXISTS ${WORK_DIR}/prefix/bin/${program})
+    message(FATAL_ERROR "cmake --install did not install ${program} into ${WORK_DIR}/prefix/bin")
+  endif()
+endforeach()
+if(EXISTS ${WORK_DIR}/prefix/include/ppcr/synthetic.hpp OR
+   NOT EXISTS ${WORK_DIR}/prefix/include/ppcr/io.hpp)
+  message(FATAL_ERROR "installed headers: synthetic.hpp (not installed library) or no io.hpp")
+endif()
 set(nanoflann_args "")
 foreach(var nanoflann_DIR NANOFLANN_INCLUDE_DIR)
   if(${var})  # false when empty or *-NOTFOUND
