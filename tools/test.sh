@@ -5,11 +5,12 @@
 #   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz, fma)
 #   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
 #                                                      nanoflann (downloads it; not a default)
-# Every test runs in the release stage, the real-scan ones included. The sanitize stage runs the
-# library's tests that need no real data (the real-scan cases exercise the same code on bigger
-# clouds, already run once; the tools' code is fuzzed through the readers and parsed in release);
-# the fma stage the core's and readers' tests (the exact equalities); the fuzz stage runs each
-# fuzzer for a bounded time.
+# Every test runs in the release stage, the real-scan ones included, and the Python module's
+# (pytest, label python) where python/cmake_flags.sh finds what it needs for /usr/bin/python3 (or
+# $PPCR_PYTHON). The sanitize stage runs the library's tests that need no real data (the
+# real-scan cases exercise the same code on bigger clouds, already run once; the tools' code is
+# fuzzed through the readers and parsed in release); the fma stage the core's and readers' tests
+# (the exact equalities); the fuzz stage runs each fuzzer for a bounded time.
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -36,7 +37,9 @@ for stage in $stages; do
   case $stage in
     release)
       echo "== release: build and run all tests"
-      build_and_test build/test-release Release "" -DPPCR_BUILD_BENCHMARKS=ON
+      # shellcheck disable=SC2046
+      build_and_test build/test-release Release "" -DPPCR_BUILD_BENCHMARKS=ON \
+        $("$root/python/cmake_flags.sh")
       ;;
     sanitize)
       echo "== sanitize: the tests without real data under AddressSanitizer + UndefinedBehaviorSanitizer"
