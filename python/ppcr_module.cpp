@@ -400,11 +400,15 @@ struct Result {
   std::size_t source_non_finite = 0;
   std::size_t target_non_finite = 0;
   double target_surface_noise = 0.0;
+  double target_spacing = 0.0;
   py::array_t<double> information;  // 6x6
   int degenerate_directions = -1;
   double fitness = 0.0;
   double inlier_rmse = 0.0;
   double overlap = 0.0;
+  double close_fraction = 0.0;
+  std::string quality;
+  std::string quality_reason;
   double quality_ms = 0.0;
   double time_ms = 0.0;  // wall time of the registration call (as ppcr_cli's)
   py::dict history;      // the trace: one array per IterationRecord field, one row per iteration
@@ -488,11 +492,15 @@ Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   out.source_non_finite = r.source_non_finite;
   out.target_non_finite = r.target_non_finite;
   out.target_surface_noise = r.target_surface_noise;
+  out.target_spacing = r.target_spacing;
   out.information = to_array(r.information);
   out.degenerate_directions = r.degenerate_directions;
   out.fitness = r.fitness;
   out.inlier_rmse = r.inlier_rmse;
   out.overlap = r.overlap;
+  out.close_fraction = r.close_fraction;
+  out.quality = ppcr::to_string(r.quality);
+  out.quality_reason = r.quality_reason;
   out.quality_ms = r.quality_ms;
   out.time_ms = time_ms;
   out.history = history_dict(r.history);
@@ -636,6 +644,8 @@ PYBIND11_MODULE(ppcr, m) {
                     "target points dropped as non-finite")
       .def_readonly("target_surface_noise", &Result::target_surface_noise,
                     "plane model: the target's surface noise, cloud units")
+      .def_readonly("target_spacing", &Result::target_spacing,
+                    "the target's median point spacing, cloud units")
       .def_readonly("information", &Result::information,
                     "6x6 Gauss-Newton information at the final pose")
       .def_readonly("degenerate_directions", &Result::degenerate_directions,
@@ -645,6 +655,13 @@ PYBIND11_MODULE(ppcr, m) {
       .def_readonly("inlier_rmse", &Result::inlier_rmse,
                     "RMS distance of those points to their nearest target point")
       .def_readonly("overlap", &Result::overlap, "the matched fraction both ways")
+      .def_readonly("close_fraction", &Result::close_fraction,
+                    "of the matched source points, the fraction within 2 target point spacings "
+                    "of the target")
+      .def_readonly("quality", &Result::quality,
+                    "the verdict: 'good', 'weak' (check it) or 'failed' (do not use the pose)")
+      .def_readonly("quality_reason", &Result::quality_reason,
+                    "why the verdict is not 'good' (empty when it is)")
       .def_readonly("quality_ms", &Result::quality_ms, "time of fitness, inlier_rmse, overlap")
       .def_readonly("time_ms", &Result::time_ms, "wall time of the registration call, ms")
       .def_readonly("history", &Result::history,
@@ -654,10 +671,10 @@ PYBIND11_MODULE(ppcr, m) {
         // As ppcr_cli's summary line.
         char text[256];
         std::snprintf(text, sizeof(text),
-                      "<ppcr.Result %s after %d iterations (%s), fitness %.4f, inlier_rmse %.6g, "
-                      "overlap %.4f, %.1f ms>",
+                      "<ppcr.Result %s after %d iterations (%s), quality %s, fitness %.4f, "
+                      "inlier_rmse %.6g, overlap %.4f, %.1f ms>",
                       r.converged ? "converged" : "stopped", r.iterations, r.stop_reason.c_str(),
-                      r.fitness, r.inlier_rmse, r.overlap, r.time_ms);
+                      r.quality.c_str(), r.fitness, r.inlier_rmse, r.overlap, r.time_ms);
         return std::string(text);
       });
 

@@ -18,18 +18,22 @@
 #include "format.hpp"
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
+#include "point_spacing.hpp"
 #include "ppcr/metrics.hpp"
 #include "scale_schedule.hpp"
 #include "settings.hpp"
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
 #include "termination.hpp"
+#include "verdict.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr std::size_t kSpacingSamples = 4096;  // enough for a median, cheap on any cloud
+constexpr double kCloseSpacings = 2.0;         // RegistrationResult::close_fraction's distance
 using detail::num;
 
 // Poses and lengths between the user's frames and units and the internal ones
@@ -77,10 +81,17 @@ double inverse_sq(double scale_sq) {
   return std::min(1.0 / scale_sq, std::numeric_limits<double>::max());
 }
 
+void set_verdict(RegistrationResult* result) {
+  const detail::Verdict v = detail::judge(*result);
+  result->quality = v.quality;
+  result->quality_reason = v.reason;
+}
+
 // A refused input returns the initial guess, or the identity if the guess is not finite.
 RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
                            RegistrationResult result) {
   result.status = s;
+  set_verdict(&result);
   result.stop_reason = StopReason::kInvalidInput;
   result.T_target_source =
       T_initial.matrix().allFinite() ? T_initial : Eigen::Isometry3d::Identity();
@@ -99,6 +110,7 @@ struct Registration::Impl {
   // Plane model only: the target's points and normals, and its surface noise.
   std::vector<detail::PlanePoint> target_plane_points;
   double target_surface_noise = 0.0;
+  double target_spacing = 0.0;  // point_spacing.hpp, internal unit
   detail::PlaneModel plane;
   // Per source; kept between calls so same-size registrations reuse the buffers.
   detail::PreparedCloud source;
@@ -146,9 +158,11 @@ Status Registration::set_target(const PointCloud& target) {
   detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
   s = m.tree.build(m.target.centered);
   if (!s.ok()) return s;
+  std::vector<double> scratch;
+  m.target_spacing = detail::median_spacing(m.target.centered, m.tree, kSpacingSamples, &scratch);
   if (o.error_model == ErrorModel::kPlane) {
     std::vector<Eigen::Vector3d> normals;  // packed below, then freed
-    std::vector<double> spread, scratch;
+    std::vector<double> spread;
     detail::compute_normals(m.target.centered, m.tree, o.expert.normal_neighbours, o.num_threads,
                             &normals, &spread);
     m.target_surface_noise = detail::surface_noise(spread, &scratch);
@@ -185,6 +199,7 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_points = target.points.size();
   result->target_non_finite = target.dropped;
   result->target_surface_noise = target.unit * target_surface_noise;
+  result->target_spacing = target.unit * target_spacing;
   const bool pair_normals =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   if (!pair_normals) return Status::Ok();
@@ -324,6 +339,7 @@ RegistrationResult Registration::align(const PointCloud& source,
     }
   }
   m.summarise(reason, T, run, &result);
+  set_verdict(&result);
   return result;
 }
 
@@ -367,10 +383,11 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      solver.radius, options.num_threads, &quality_scratch);
+      solver.radius, kCloseSpacings * target_spacing, options.num_threads, &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);
   result->overlap = q.overlap;
+  result->close_fraction = q.close_fraction;
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (options.error_model != ErrorModel::kPlane) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(

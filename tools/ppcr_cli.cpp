@@ -2,7 +2,9 @@
 //
 // Prints the 4x4 transform mapping SOURCE into TARGET's frame (or one JSON object with --json).
 // Exit 0 on success; 1 with a one-line error on stderr for bad input, a failed registration or
-// an output (stdout included) that could not be written; 2 for bad command-line usage.
+// an output (stdout included) that could not be written; 2 for bad command-line usage; 3 when
+// the registration ran and its outputs were written but the result is not to be trusted: its
+// verdict is "failed" (RegistrationResult::quality) or its fitness is below --min-fitness.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -31,6 +33,7 @@ struct Arguments {
   std::string source_path, target_path, initial_path, gt_path;
   std::string out_transform, out_cloud, trace;
   bool json = false, verbose = false, quiet = false;
+  double min_fitness = 0.0;
   ppcr_tools::RegistrationFlags flags;
 };
 
@@ -59,6 +62,12 @@ void add_arguments(CLI::App& app, Arguments* a) {
       ->check(ppcr_tools::non_empty())
       ->group(kOutputGroup);
   app.add_flag("--json", a->json, "print one JSON object to stdout instead of the matrix")
+      ->group(kOutputGroup);
+  app.add_option("--min-fitness", a->min_fitness,
+                 "exit with status 3 when the result's fitness (fraction of source points with a "
+                 "target point within the radius) is below this, in [0, 1] (default 0: no check)")
+      ->check(ppcr_tools::non_empty())
+      ->check(CLI::Range(0.0, 1.0))
       ->group(kOutputGroup);
   app.add_flag("--verbose", a->verbose, "per-iteration progress on stderr")->group(kOutputGroup);
   app.add_flag("--quiet", a->quiet, "nothing on stderr but errors")->group(kOutputGroup);
@@ -184,16 +193,35 @@ ppcr::Status write_outputs(const Arguments& a, const Inputs& in,
 void print_summary(const ppcr::RegistrationResult& result, double time_ms,
                    const ppcr::PoseErrors* gt) {
   std::fprintf(stderr,
-               "ppcr_cli: %s after %d iterations (%s), %.1f ms; fitness %.4f, inlier RMSE %.6g, "
-               "overlap %.4f",
+               "ppcr_cli: %s after %d iterations (%s), %.1f ms; quality %s; fitness %.4f, inlier "
+               "RMSE %.6g, overlap %.4f, on the surface %.4f",
                result.converged() ? "converged" : "stopped", result.iterations,
-               ppcr::to_string(result.stop_reason), time_ms, result.fitness, result.inlier_rmse,
-               result.overlap);
+               ppcr::to_string(result.stop_reason), time_ms, ppcr::to_string(result.quality),
+               result.fitness, result.inlier_rmse, result.overlap, result.close_fraction);
   if (gt != nullptr) {
     std::fprintf(stderr, "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
                  gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);
   }
   std::fprintf(stderr, "\n");
+}
+
+// The exit status of a registration that ran: 3 when its verdict is failed or its fitness is
+// below --min-fitness (with the reason on stderr), else 0; a weak verdict is a warning.
+int judge(const Arguments& a, const ppcr::RegistrationResult& result) {
+  if (result.fitness < a.min_fitness) {
+    std::fprintf(stderr, "ppcr_cli: error: fitness %.4f is below --min-fitness %g\n",
+                 result.fitness, a.min_fitness);
+    return 3;
+  }
+  if (result.quality == ppcr::Quality::kFailed) {
+    std::fprintf(stderr, "ppcr_cli: error: the registration failed its quality check: %s\n",
+                 result.quality_reason);
+    return 3;
+  }
+  if (result.quality == ppcr::Quality::kWeak && !a.quiet) {
+    std::fprintf(stderr, "ppcr_cli: warning: weak result: %s\n", result.quality_reason);
+  }
+  return 0;
 }
 
 }  // namespace
@@ -243,5 +271,5 @@ int main(int argc, char** argv) {
   if (!a.json) std::printf("%s", ppcr_tools::matrix_text(result.T_target_source.matrix()).c_str());
   if (stdout_failed()) return fail(std::string("stdout: write failed: ") + std::strerror(errno));
   if (!a.quiet) print_summary(result, time_ms, in.has_gt ? &gt : nullptr);
-  return 0;
+  return judge(a, result);
 }

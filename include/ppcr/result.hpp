@@ -28,6 +28,18 @@ enum class StopReason {
 
 const char* to_string(StopReason reason);
 
+/// The verdict on a result (RegistrationResult::quality), from its measures of agreement; the
+/// rules and how they were chosen are in docs/BENCHMARK.md ("The verdict").
+enum class Quality {
+  kGood,    // the clouds agree: no rule below fired
+  kWeak,    // plausible, but a warning sign: low fitness, a loose fit, free directions with a
+            // loose fit, or the iteration cap; check it
+  kFailed,  // refused input or a failure, nothing matched, or most matched points off the
+            // target's surface: the pose is not to be used
+};
+
+const char* to_string(Quality quality);
+
 /// True for the reasons that mean "a termination criterion decided" (fixed, cost drop, MSE,
 /// successful steps, zero cost); false for the hard cap, failures and refused input.
 bool is_criterion_stop(StopReason reason);
@@ -74,6 +86,9 @@ struct RegistrationResult {
   /// Plane model: the target's surface noise, cloud units: the median RMS distance of a normal
   /// fit's points from their plane (sensor noise and roughness); 0 for the point model.
   double target_surface_noise = 0.0;
+  /// The target's point spacing, cloud units: the median distance from a (filtered) target point
+  /// to its nearest other point, over up to 4096 points spread through the cloud.
+  double target_spacing = 0.0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
   /// left about the target's per-axis median point, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
@@ -84,11 +99,15 @@ struct RegistrationResult {
   int degenerate_directions = -1;
   /// How well the clouds agree at the final pose, measured after the last iteration on the
   /// registered (filtered) clouds, with the association radius (Open3D's definitions):
-  double fitness = 0.0;      // fraction of source points with a target point within the radius
-  double inlier_rmse = 0.0;  // RMS distance of those points to their nearest target point
-  double overlap = 0.0;      // the matched fraction both ways: min(fitness, target's fraction);
-                             // fitness when no source index exists (source normals off)
-  double quality_ms = 0.0;   // wall time of these measures (not part of the loop)
+  double fitness = 0.0;         // fraction of source points with a target point within the radius
+  double inlier_rmse = 0.0;     // RMS distance of those points to their nearest target point
+  double overlap = 0.0;         // the matched fraction both ways: min(fitness, target's fraction);
+                                // fitness when no source index exists (source normals off)
+  double close_fraction = 0.0;  // of the matched source points, the fraction within 2 target
+                                // point spacings of their nearest target point: on its surface
+  Quality quality = Quality::kFailed;  // the verdict (see Quality), set by every align()
+  const char* quality_reason = "";     // why it is not kGood: one sentence, static text
+  double quality_ms = 0.0;             // wall time of these measures (not part of the loop)
   std::vector<IterationRecord> history;
 
   /// True when a termination criterion stopped the loop (not the cap, not a failure).

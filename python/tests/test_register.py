@@ -49,6 +49,10 @@ def test_bunny_from_numpy_matches_cli(bunny, cli_bunny):
         assert r.fitness == pytest.approx(cli_bunny["fitness"], abs=1e-12)
         assert r.inlier_rmse == pytest.approx(cli_bunny["inlier_rmse"], abs=1e-12)
         assert r.overlap == pytest.approx(cli_bunny["overlap"], abs=1e-12)
+        assert r.close_fraction == pytest.approx(cli_bunny["close_fraction"], abs=1e-12)
+        assert r.target_spacing == pytest.approx(cli_bunny["target_spacing"], rel=1e-12)
+        assert (r.quality, r.quality_reason) == (cli_bunny["quality"],
+                                                 cli_bunny["quality_reason"])
         assert (r.source_points, r.target_points) == (cli_bunny["source_points"],
                                                       cli_bunny["target_points"])
 
@@ -87,6 +91,7 @@ def test_known_transform_recovered(pair):
     moved = transform(r.transformation, source)
     assert np.sqrt(np.mean(np.sum((moved - transform(T, source)) ** 2, axis=1))) < 1e-3
     assert r.fitness > 0.9 and 0 < r.inlier_rmse < 0.02  # about the sampling spacing
+    assert r.quality == "good" and r.quality_reason == ""
 
 
 def test_initial_guess(pair):

@@ -1335,6 +1335,29 @@ TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[r
     CHECK(r.overlap == Approx(source_normals ? both : r.fitness).epsilon(1e-12));
     CHECK(r.fitness > 0.9);  // a correct registration of overlapping samples
     CHECK(r.quality_ms >= 0.0);
+    // The target's spacing: upper median over its points (8000 <= 2 x 4096 samples: all) of the
+    // distance to the nearest other point; then the matched source points within twice that.
+    std::vector<double> nearest;
+    for (std::size_t i = 0; i < sc.target.size(); ++i) {
+      double best = HUGE_VAL;
+      for (std::size_t k = 0; k < sc.target.size(); ++k) {
+        const double d = (sc.target[k] - sc.target[i]).squaredNorm();
+        if (k != i && d > 0.0) best = std::min(best, d);
+      }
+      nearest.push_back(std::sqrt(best));
+    }
+    std::sort(nearest.begin(), nearest.end());
+    const double spacing = nearest[nearest.size() / 2];
+    CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
+    std::size_t close = 0;
+    for (const Eigen::Vector3d& x : sc.source) {
+      double best = HUGE_VAL;
+      for (const Eigen::Vector3d& y : sc.target)
+        best = std::min(best, (y - r.T_target_source * x).squaredNorm());
+      if (best <= radius_sq && best <= 4.0 * spacing * spacing) ++close;
+    }
+    CHECK(r.close_fraction == Approx(static_cast<double>(close) / n).epsilon(1e-12));
+    CHECK(r.quality == ppcr::Quality::kGood);
   }
   // A registration that found nothing measures nothing.
   const Scene sc = make_scene(500, 2000, false);
@@ -1344,4 +1367,22 @@ TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[r
   const RegistrationResult r = ppcr::align(sc.source, sc.target, o, far);
   CHECK(r.fitness == 0.0);
   CHECK(r.inlier_rmse == 0.0);
+  CHECK(r.quality == ppcr::Quality::kFailed);
+}
+
+TEST_CASE("a wrong result is not called good: the scene registered from 120 degrees off",
+          "[registration]") {
+  // The local method cannot undo 120 degrees about the vertical: it ends in a wrong minimum. The
+  // verdict must flag it, whatever the criterion said.
+  const Scene sc = make_scene(2000, 8000, false);
+  const RegistrationOptions o = scene_options();
+  const Eigen::Isometry3d off = core_test::make_pose(
+      Eigen::Vector3d::UnitZ(), core_test::deg2rad(120.0), Eigen::Vector3d::Zero());
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o, sc.T_true * off);
+  INFO("rotation error " << rotation_error_deg(r.T_target_source, sc.T_true) << " deg, fitness "
+                         << r.fitness << ", close " << r.close_fraction << ", "
+                         << ppcr::to_string(r.quality) << ": " << r.quality_reason);
+  REQUIRE(rotation_error_deg(r.T_target_source, sc.T_true) > 10.0);
+  CHECK(r.quality != ppcr::Quality::kGood);
+  CHECK(std::string(r.quality_reason).size() > 0);
 }

@@ -137,3 +137,61 @@ TEST_CASE("ppcr_cli --help groups the options", "[cli]") {
   CHECK(r.out.find("--radius", registration) < termination);
   CHECK(r.out.find("--coarse-stride", expert) != std::string::npos);
 }
+
+TEST_CASE("ppcr_cli reports the verdict: JSON fields and the summary line", "[cli]") {
+  write_pair();
+  const Run r = run_cli(pair_args() + " --json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(contains(r.out, "\"quality\": \"good\""));
+  CHECK(contains(r.out, "\"quality_reason\": \"\""));
+  CHECK(contains(r.out, "\"close_fraction\""));
+  CHECK(contains(r.out, "\"target_spacing\""));
+  CHECK(contains(r.err, "quality good"));
+}
+
+// The wavy target cut to x <= 0.2 (so a part of the source has no counterpart), and a surface
+// that coincides with the target nowhere.
+void write_cut_and_other() {
+  std::ofstream cut(kDir + "/cut.xyz"), other(kDir + "/other.xyz");
+  cut.precision(17);
+  other.precision(17);
+  for (double x = -0.5; x <= 0.5; x += 0.02) {
+    for (double y = -0.5; y <= 0.5; y += 0.02) {
+      if (x <= 0.2) cut << x << ' ' << y << ' ' << 0.1 * std::sin(4 * x) * std::cos(3 * y) << '\n';
+      other << x << ' ' << y << ' ' << 0.15 * std::sin(11 * x + 1) * std::cos(9 * y) << '\n';
+    }
+  }
+}
+
+TEST_CASE("ppcr_cli --min-fitness: below it, exit 3 with the outputs written", "[cli]") {
+  write_pair();
+  write_cut_and_other();
+  const std::string transform = kDir + "/min_fitness.txt";
+  std::filesystem::remove(transform);
+  const std::string args = "'" + kDir + "/source.xyz' '" + kDir + "/cut.xyz' --radius 0.1";
+  Run r = run_cli(args + " --json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(contains(r.out, "\"fitness\": 0.7"));  // about 3/4 of the source is within the radius
+  r = run_cli(args + " --min-fitness 0.8 --output-transform '" + transform + "'");
+  CHECK(r.status == 3);
+  CHECK(contains(r.err, "below --min-fitness 0.8"));
+  CHECK(std::filesystem::exists(transform));
+  CHECK(r.out.size() > 0);  // the matrix is still printed
+  r = run_cli(args + " --min-fitness 0.6");
+  CHECK(r.status == 0);
+  r = run_cli(args + " --min-fitness 1.5");
+  CHECK(r.status == 2);
+  CHECK(contains(r.err, "--min-fitness"));
+}
+
+TEST_CASE("ppcr_cli: a result that fails the verdict is exit 3, never 0", "[cli]") {
+  write_pair();
+  write_cut_and_other();
+  const Run r = run_cli("'" + kDir + "/other.xyz' '" + kDir + "/target.xyz' --radius 0.1 --json");
+  INFO(r.err << r.out);
+  CHECK(r.status == 3);
+  CHECK(contains(r.out, "\"quality\": \"failed\""));
+  CHECK(contains(r.err, "failed its quality check"));
+}

@@ -3,8 +3,8 @@
 
 The shared problem files hold 50 problems per set: one failure moves the success rate by 2 %, too
 coarse to tell whether a change costs robustness. This writes N problems in the same format,
-drawn from the same distribution: a rotation of uniform random magnitude in [0, --max-rotation]
-degrees about a uniformly random axis through the source's centroid, then a translation of uniform
+drawn from the same distribution: a rotation of uniform random magnitude in
+[--min-rotation (default 0), --max-rotation] degrees about a uniformly random axis through the source's centroid, then a translation of uniform
 random magnitude in [0, --max-translation] in a uniformly random direction.
 
   tools/bench/make_problems.py ../shared/data/benchmark lidar/source.ply lidar/target.ply \\
@@ -103,6 +103,7 @@ def main():
     ap.add_argument("source", help="source cloud (PLY), relative to benchmark_dir")
     ap.add_argument("target", help="target cloud, relative to benchmark_dir")
     ap.add_argument("--count", type=int, default=300, help="problems to write (default 300)")
+    ap.add_argument("--min-rotation", type=float, default=0.0, help="degrees (default 0)")
     ap.add_argument("--max-rotation", type=float, default=30.0, help="degrees (default 30)")
     ap.add_argument("--max-translation", type=float, required=True,
                     help="cloud units (the benchmark: 0.02 bunny, 1 lidar)")
@@ -110,14 +111,16 @@ def main():
     ap.add_argument("--first-id", type=int, default=5000)
     ap.add_argument("--overlap", default="0", help="the overlap column, copied (default 0)")
     a = ap.parse_args()
-    if a.count < 1 or not (0.0 <= a.max_rotation <= 180.0) or not (a.max_translation >= 0.0):
-        sys.exit(f"need --count >= 1 (got {a.count}), --max-rotation in [0, 180] "
+    if a.count < 1 or not (0.0 <= a.min_rotation <= a.max_rotation <= 180.0) or \
+            not (a.max_translation >= 0.0):
+        sys.exit(f"need --count >= 1 (got {a.count}), 0 <= --min-rotation ({a.min_rotation}) "
+                 f"<= --max-rotation <= 180 "
                  f"(got {a.max_rotation}), --max-translation >= 0 (got {a.max_translation})")
     c = centroid(f"{a.benchmark_dir}/{a.source}")
     rng = random.Random(a.seed)
     print("id source target overlap t1 t2 t3 t4 t5 t6 t7 t8 t9 t10 t11 t12")
     for i in range(a.count):
-        R = rotation(random_unit(rng), math.radians(rng.uniform(0.0, a.max_rotation)))
+        R = rotation(random_unit(rng), math.radians(rng.uniform(a.min_rotation, a.max_rotation)))
         d = random_unit(rng)
         m = rng.uniform(0.0, a.max_translation)
         # x -> R (x - c) + c + t: rotation about the centroid, then the translation.

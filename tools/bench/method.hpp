@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,17 @@ struct MethodResult {
   std::string stop_reason;
   bool converged = false;
   std::vector<ppcr::IterationRecord> history;  // ppcr with set_trace(): one row per iteration
+  // ppcr's measures of the result (RegistrationResult); NaN, -1 or empty for the peers.
+  double fitness = std::numeric_limits<double>::quiet_NaN();
+  double inlier_rmse = std::numeric_limits<double>::quiet_NaN();
+  double overlap = std::numeric_limits<double>::quiet_NaN();
+  double scale = std::numeric_limits<double>::quiet_NaN();
+  double target_surface_noise = std::numeric_limits<double>::quiet_NaN();
+  double target_spacing = std::numeric_limits<double>::quiet_NaN();
+  double close_fraction = std::numeric_limits<double>::quiet_NaN();
+  int degenerate_directions = -1;
+  std::string quality;
+  double quality_ms = std::numeric_limits<double>::quiet_NaN();
 };
 
 class Method {

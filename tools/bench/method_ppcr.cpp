@@ -44,6 +44,16 @@ class PpcrMethod : public Method {
     out.stop_reason = ppcr::to_string(r.stop_reason);
     out.converged = r.converged();
     out.history = r.history;
+    out.fitness = r.fitness;
+    out.inlier_rmse = r.inlier_rmse;
+    out.overlap = r.overlap;
+    out.scale = r.scale;
+    out.target_surface_noise = r.target_surface_noise;
+    out.target_spacing = r.target_spacing;
+    out.close_fraction = r.close_fraction;
+    out.quality = ppcr::to_string(r.quality);
+    out.degenerate_directions = r.degenerate_directions;
+    out.quality_ms = r.quality_ms;
     return out;
   }
 

@@ -267,7 +267,10 @@ int main(int argc, char** argv) {
     if (csv == nullptr) return fail(a.out_csv + ": cannot open for writing");
     std::fprintf(csv,
                  "id,method,error,rotation_error_deg,translation_error,iterations,"
-                 "stop_reason,converged,ok,time_ms,source_points,target_points\n");
+                 "stop_reason,converged,ok,time_ms,source_points,target_points,success,fitness,"
+                 "inlier_rmse,overlap,close_fraction,scale,target_surface_noise,target_spacing,"
+                 "degenerate_directions,quality,"
+                 "quality_ms\n");
   }
   const bool bar = !a.quiet && isatty(fileno(stderr));
   CloudCache cache(a.data_root, options.target_voxel);
@@ -282,10 +285,18 @@ int main(int argc, char** argv) {
     outcomes.push_back(o);
     if (!run.result.ok) ++failures;
     if (csv != nullptr) {
-      std::fprintf(csv, "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu\n", p.id.c_str(),
-                   label.c_str(), o.error, o.rotation_error_deg, o.translation_error, o.iterations,
-                   run.result.stop_reason.c_str(), run.result.converged ? 1 : 0,
-                   run.result.ok ? 1 : 0, o.time_ms, run.source_points, run.target_points);
+      const ppcr_bench::MethodResult& r = run.result;
+      const bool success = o.rotation_error_deg < a.success_rotation &&
+                           o.translation_error < a.success_translation;  // summarize()'s rule
+      std::fprintf(csv,
+                   "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
+                   "%.6g,%d,%s,"
+                   "%.3f\n",
+                   p.id.c_str(), label.c_str(), o.error, o.rotation_error_deg, o.translation_error,
+                   o.iterations, r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0,
+                   o.time_ms, run.source_points, run.target_points, success ? 1 : 0, r.fitness,
+                   r.inlier_rmse, r.overlap, r.close_fraction, r.scale, r.target_surface_noise,
+                   r.target_spacing, r.degenerate_directions, r.quality.c_str(), r.quality_ms);
     }
     if (bar) progress(i + 1, problems.size(), o.error);
   }

@@ -43,6 +43,10 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["fitness"] = r.fitness;
   j["inlier_rmse"] = r.inlier_rmse;
   j["overlap"] = r.overlap;
+  j["close_fraction"] = r.close_fraction;
+  j["target_spacing"] = r.target_spacing;
+  j["quality"] = ppcr::to_string(r.quality);
+  j["quality_reason"] = r.quality_reason;
   j["quality_ms"] = r.quality_ms;
   j["degenerate_directions"] = r.degenerate_directions;
   nlohmann::ordered_json information = nlohmann::ordered_json::array();

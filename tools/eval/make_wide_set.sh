@@ -12,8 +12,9 @@
 # Group g (0..8, in the order below) uses seeds 100 g + 1 .. 100 g + SEEDS: ppcr_synth draws the
 # layout, the sensor poses and the problems' starts from the seed alone, so distinct seeds give
 # every problem its own scene and start.
-# Starts: rotation uniform in [0, 30] degrees about a random axis through the source centroid,
-# translation uniform in [0, 2 x the group's radius] (tools/eval/protocol.txt).
+# Starts: rotation uniform in [MIN_ROTATION, MAX_ROTATION] degrees (default [0, 30]) about a
+# random axis through the source centroid, translation uniform in [0, 2 x the group's radius]
+# (tools/eval/protocol.txt). The verdict's evaluation uses MIN_ROTATION=30 MAX_ROTATION=90.
 # SYNTH_BINARY defaults to build/eval-helper/tools/synth/ppcr_synth. Deterministic.
 set -euo pipefail
 out=${1:?usage: make_wide_set.sh OUT_DIR [SYNTH_BINARY]}
@@ -21,6 +22,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 synth=${2:-$here/../../build/eval-helper/tools/synth/ppcr_synth}
 seeds=${SEEDS:-8}
 problems=${PROBLEMS:-6}
+min_rotation=${MIN_ROTATION:-0}
+max_rotation=${MAX_ROTATION:-30}
 [ -x "$synth" ] || { echo "make_wide_set.sh: no ppcr_synth at $synth" >&2; exit 2; }
 mkdir -p "$out"
 : > "$out/manifest.txt"
@@ -46,7 +49,8 @@ for group in room_gauss room_range room_depthcam street_gauss street_range stree
     mkdir -p "$out/$group"
     # shellcheck disable=SC2086  # the options are words
     "$synth" "$dir" ${group_options[$group]} --seed "$seed" --rotation 15 \
-      --problems "$problems" --max-problem-rotation 30 > "$dir.log" 2>&1 ||
+      --problems "$problems" \
+      --min-problem-rotation "$min_rotation" --max-problem-rotation "$max_rotation" > "$dir.log" 2>&1 ||
       { cat "$dir.log" >&2; exit 1; }
     echo "$group $dir/problems.txt" >> "$out/manifest.txt"
   done

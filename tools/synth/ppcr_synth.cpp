@@ -6,7 +6,8 @@
 //              [--noise-per-metre A] [--depth-quantisation Q] [--outliers F]
 //              [--rotation DEG] [--translation M] [--sensor lidar|camera] [--beams N] [--steps N]
 //              [--fov-up DEG] [--fov-down DEG] [--hfov DEG] [--min-range M] [--max-range M]
-//              [--problems N] [--max-problem-rotation DEG] [--max-problem-translation M]
+//              [--problems N] [--min-problem-rotation DEG] [--max-problem-rotation DEG]
+//              [--max-problem-translation M]
 //
 // --sensor camera starts from ppcr::synthetic::depth_camera() (320 x 240 pixels, 58 x 45 degrees,
 // 0.4 to 4.5 m); --beams (rows), --steps (columns), --fov-*, --hfov and --*-range override it.
@@ -103,9 +104,10 @@ class Uniform {
 /// about a uniformly random axis through `centroid`, then a translation of uniform magnitude in
 /// [0, max_translation] in a uniformly random direction.
 Eigen::Isometry3d random_misplacement(Uniform* uniform, const Eigen::Vector3d& centroid,
-                                      double max_rotation_deg, double max_translation) {
+                                      double min_rotation_deg, double max_rotation_deg,
+                                      double max_translation) {
   const Eigen::Vector3d axis = uniform->unit_vector();
-  const double angle = (*uniform)(0.0, max_rotation_deg) * kPi / 180.0;
+  const double angle = (*uniform)(min_rotation_deg, max_rotation_deg) * kPi / 180.0;
   const Eigen::Vector3d direction = uniform->unit_vector();
   const double distance = (*uniform)(0.0, max_translation);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
@@ -122,6 +124,7 @@ struct CommandLine {
   std::string scene = "room";
   std::string sensor = "lidar";
   int problems = 10;
+  double min_problem_rotation = 0.0;
   double max_problem_rotation = 30.0;
   double max_problem_translation = 1.0;
   ppcr::synthetic::ScanOptions options;  // the scan flags; scene and sensor set by scan_options()
@@ -213,6 +216,11 @@ void add_sensor_options(CLI::App* app, CommandLine* line) {
 void add_problem_options(CLI::App* app, CommandLine* line) {
   app->add_option("--problems", line->problems, "benchmark problems to write in problems.txt")
       ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  app->add_option("--min-problem-rotation", line->min_problem_rotation,
+                  "smallest initial misplacement rotation of a problem, degrees (at most "
+                  "--max-problem-rotation)")
+      ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
   app->add_option("--max-problem-rotation", line->max_problem_rotation,
                   "largest initial misplacement rotation of a problem, degrees (about a random "
@@ -322,8 +330,9 @@ int write_problems(const CommandLine& line, std::uint64_t seed,
   std::ofstream file(problems_path);
   file << "id source target overlap t1 t2 t3 t4 t5 t6 t7 t8 t9 t10 t11 t12\n";
   for (int i = 0; i < line.problems; ++i) {
-    const Eigen::Isometry3d T0 = random_misplacement(&uniform, centroid, line.max_problem_rotation,
-                                                     line.max_problem_translation);
+    const Eigen::Isometry3d T0 =
+        random_misplacement(&uniform, centroid, line.min_problem_rotation,
+                            line.max_problem_rotation, line.max_problem_translation);
     file << i << " source_gt_frame.ply target.ply " << std::fixed << std::setprecision(4) << overlap
          << std::defaultfloat << std::setprecision(17);
     for (int r = 0; r < 3; ++r) {
@@ -378,6 +387,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     return fail(2, std::string(e.what()) + " (see --help)");
+  }
+  if (line.min_problem_rotation > line.max_problem_rotation) {
+    return fail(2, "--min-problem-rotation " + std::to_string(line.min_problem_rotation) +
+                       " exceeds --max-problem-rotation " +
+                       std::to_string(line.max_problem_rotation));
   }
 
   const ppcr::synthetic::ScanOptions options = scan_options(line);

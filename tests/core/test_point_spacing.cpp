@@ -1,0 +1,52 @@
+// median_spacing against brute force: over every point, and over an even sample of them.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "kdtree.hpp"
+#include "point_spacing.hpp"
+
+using ppcr::PointCloud;
+
+namespace {
+
+// Upper median over points[0], points[stride], ... of the distance to the nearest other point at
+// a non-zero distance.
+double brute_force(const PointCloud& points, std::size_t stride) {
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size(); i += stride) {
+    double best = HUGE_VAL;
+    for (const Eigen::Vector3d& q : points) {
+      const double d = (q - points[i]).squaredNorm();
+      if (d > 0.0) best = std::min(best, d);
+    }
+    if (best < HUGE_VAL) nearest.push_back(std::sqrt(best));
+  }
+  std::sort(nearest.begin(), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
+}  // namespace
+
+TEST_CASE("median_spacing: brute force, all points and a sample; duplicates skipped",
+          "[point_spacing]") {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PointCloud points;
+  for (int i = 0; i < 3000; ++i) points.emplace_back(u(rng), u(rng), 0.1 * u(rng));
+  for (int i = 0; i < 300; ++i) points.push_back(points[static_cast<std::size_t>(7 * i)]);
+  ppcr::detail::KdTree tree;
+  REQUIRE(tree.build(points).ok());
+  std::vector<double> scratch;
+  CHECK(ppcr::detail::median_spacing(points, tree, 4096, &scratch) ==
+        Approx(brute_force(points, 1)).epsilon(1e-12));
+  // 3300 points, at most 1000 samples: every 3rd point.
+  CHECK(ppcr::detail::median_spacing(points, tree, 1000, &scratch) ==
+        Approx(brute_force(points, 3)).epsilon(1e-12));
+  // A cloud of one repeated point has no spacing.
+  const PointCloud same(10, Eigen::Vector3d(1, 2, 3));
+  REQUIRE(tree.build(same).ok());
+  CHECK(ppcr::detail::median_spacing(same, tree, 4096, &scratch) == 0.0);
+}
