@@ -276,7 +276,8 @@ const std::vector<Option>& options_table() {
   using R = RegistrationOptions;
   static const std::vector<Option> table = {
       value("radius", &R::radius,
-            "association radius, cloud units (> 0): target points farther than this are ignored"),
+            "association radius, cloud units (> 0): target points farther than this are "
+            "ignored; 0: automatic, 8 x the filtered target's median point spacing"),
       value("max_neighbours", &R::max_neighbours,
             "target points associated per source point, in [1, 1024]"),
       word("error_model", &R::error_model,
@@ -401,6 +402,7 @@ struct Result {
   std::size_t target_non_finite = 0;
   double target_surface_noise = 0.0;
   double target_spacing = 0.0;
+  double radius = 0.0;
   py::array_t<double> information;  // 6x6
   int degenerate_directions = -1;
   double fitness = 0.0;
@@ -493,6 +495,7 @@ Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   out.target_non_finite = r.target_non_finite;
   out.target_surface_noise = r.target_surface_noise;
   out.target_spacing = r.target_spacing;
+  out.radius = r.radius;
   out.information = to_array(r.information);
   out.degenerate_directions = r.degenerate_directions;
   out.fitness = r.fitness;
@@ -646,6 +649,8 @@ PYBIND11_MODULE(ppcr, m) {
                     "plane model: the target's surface noise, cloud units")
       .def_readonly("target_spacing", &Result::target_spacing,
                     "the target's median point spacing, cloud units")
+      .def_readonly("radius", &Result::radius,
+                    "the association radius used, cloud units (the option, or the automatic one)")
       .def_readonly("information", &Result::information,
                     "6x6 Gauss-Newton information at the final pose")
       .def_readonly("degenerate_directions", &Result::degenerate_directions,

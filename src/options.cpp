@@ -43,7 +43,8 @@ class Checker {
 constexpr int kIntMax = 1 << 30;
 
 void check_user(const RegistrationOptions& o, Checker* c) {
-  c->positive_value(o.radius, "radius");
+  c->require(o.radius == RegistrationOptions::kAutomaticRadius || finite_positive(o.radius),
+             "radius", "> 0, or 0 for automatic", num(o.radius));
   c->int_range(o.max_neighbours, 1, detail::AssociationTable::kMaxNeighbours, "max_neighbours");
   if (o.expert.weight_model == WeightModel::kStudentT) c->positive_value(o.dof, "dof");
   c->non_negative_value(o.source_voxel, "source_voxel");

@@ -111,6 +111,7 @@ struct Registration::Impl {
   std::vector<detail::PlanePoint> target_plane_points;
   double target_surface_noise = 0.0;
   double target_spacing = 0.0;  // point_spacing.hpp, internal unit
+  double radius = 0.0;          // the radius used, cloud units (the user's, or automatic)
   detail::PlaneModel plane;
   // Per source; kept between calls so same-size registrations reuse the buffers.
   detail::PreparedCloud source;
@@ -149,17 +150,29 @@ Status Registration::set_target(const PointCloud& target) {
   Impl& m = *impl_;
   m.has_target = false;
   if (!m.options_status.ok()) return m.options_status;
-  Status s = detail::prepare_cloud(target, m.options.target_voxel, m.options.radius, 0.0, "target",
-                                   &m.target);
+  // An automatic radius is not known yet: the internal unit is then the target's extent.
+  const bool automatic = m.options.radius == RegistrationOptions::kAutomaticRadius;
+  Status s =
+      detail::prepare_cloud(target, m.options.target_voxel, automatic ? HUGE_VAL : m.options.radius,
+                            0.0, "target", &m.target);
   if (!s.ok()) return s;
-  m.solver = detail::in_internal_units(m.options, m.target.unit);
-  const RegistrationOptions& o = m.solver;
   // Z-order: a source point's neighbours lie near each other in memory (spatial_order.hpp).
   detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
   s = m.tree.build(m.target.centered);
   if (!s.ok()) return s;
   std::vector<double> scratch;
   m.target_spacing = detail::median_spacing(m.target.centered, m.tree, kSpacingSamples, &scratch);
+  m.solver = detail::in_internal_units(m.options, m.target.unit);
+  if (automatic) {
+    if (!(m.target_spacing > 0.0)) {
+      return Status(StatusCode::kInvalidArgument,
+                    "radius: an automatic radius needs the target's point spacing, and its points "
+                    "all coincide; give the radius");
+    }
+    m.solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * m.target_spacing;
+  }
+  m.radius = m.solver.radius * m.target.unit;
+  const RegistrationOptions& o = m.solver;
   if (o.error_model == ErrorModel::kPlane) {
     std::vector<Eigen::Vector3d> normals;  // packed below, then freed
     std::vector<double> spread;
@@ -190,8 +203,8 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
-  Status s = detail::prepare_cloud(cloud, options.source_voxel, options.radius, target.unit,
-                                   "source", &source);
+  Status s =
+      detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   detail::spatial_sort(&source.centered, &source.points, &sort_scratch);
@@ -200,6 +213,7 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_non_finite = target.dropped;
   result->target_surface_noise = target.unit * target_surface_noise;
   result->target_spacing = target.unit * target_spacing;
+  result->radius = radius;
   const bool pair_normals =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   if (!pair_normals) return Status::Ok();
@@ -285,7 +299,7 @@ LMSummary Registration::Impl::solve(Run* run, bool coarse, Eigen::Isometry3d* T)
 
 Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
   return Status(StatusCode::kNoCorrespondences,
-                "no source point has a target point within radius " + num(options.radius) +
+                "no source point has a target point within radius " + num(radius) +
                     "; source (moved by the initial guess) spans " +
                     extent(source.points, T_initial) + ", target spans " +
                     extent(target.points, Eigen::Isometry3d::Identity()));

@@ -194,10 +194,11 @@ void print_summary(const ppcr::RegistrationResult& result, double time_ms,
                    const ppcr::PoseErrors* gt) {
   std::fprintf(stderr,
                "ppcr_cli: %s after %d iterations (%s), %.1f ms; quality %s; fitness %.4f, inlier "
-               "RMSE %.6g, overlap %.4f, on the surface %.4f",
+               "RMSE %.6g, overlap %.4f, on the surface %.4f; radius %.6g",
                result.converged() ? "converged" : "stopped", result.iterations,
                ppcr::to_string(result.stop_reason), time_ms, ppcr::to_string(result.quality),
-               result.fitness, result.inlier_rmse, result.overlap, result.close_fraction);
+               result.fitness, result.inlier_rmse, result.overlap, result.close_fraction,
+               result.radius);
   if (gt != nullptr) {
     std::fprintf(stderr, "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
                  gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);
@@ -261,9 +262,12 @@ int main(int argc, char** argv) {
   ppcr::PoseErrors gt;
   if (in.has_gt) gt = ppcr::evaluate(in.source, result.T_target_source, in.T_gt);
   if (a.json) {
-    std::printf(
-        "%s\n",
-        ppcr_tools::result_json(result, time_ms, in.has_gt ? &gt : nullptr).dump(2).c_str());
+    std::printf("%s\n",
+                ppcr_tools::result_json(
+                    result, time_ms, options.radius == ppcr::RegistrationOptions::kAutomaticRadius,
+                    in.has_gt ? &gt : nullptr)
+                    .dump(2)
+                    .c_str());
   }
   if (!result.status.ok()) return fail(ppcr_tools::with_flag_names(result.status).message());
   s = write_outputs(a, in, result);

@@ -107,8 +107,15 @@ struct IterationRecord;
 /// the solver divides every length by the radius (or the target's extent when smaller), so the
 /// same pair in millimetres or kilometres, lengths scaled alike, gives the same rotation.
 struct RegistrationOptions {
-  double radius = 1.0;     // association radius (> 0): farther target points are ignored
-  int max_neighbours = 6;  // target points associated per source point, k, [1, 1024]
+  /// radius = kAutomaticRadius: kAutomaticRadiusSpacings x the (filtered) target's median point
+  /// spacing (RegistrationResult::target_spacing); the radius used is RegistrationResult::radius.
+  /// It matches the tuned radius on both shared sets; a radius set from the expected
+  /// misalignment does better where that is known (docs/BENCHMARK.md, "The automatic radius").
+  static constexpr double kAutomaticRadius = 0.0;
+  static constexpr double kAutomaticRadiusSpacings = 8.0;
+  double radius = kAutomaticRadius;  // association radius (> 0, or automatic): farther target
+                                     // points are ignored; it must cover the misalignment
+  int max_neighbours = 6;            // target points associated per source point, k, [1, 1024]
   ErrorModel error_model = ErrorModel::kPlane;
   double dof = 1.25;          // Student-t degrees of freedom nu (> 0; authors: 5)
   double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0; 0 = no filter)

@@ -89,6 +89,8 @@ struct RegistrationResult {
   /// The target's point spacing, cloud units: the median distance from a (filtered) target point
   /// to its nearest other point, over up to 4096 points spread through the cloud.
   double target_spacing = 0.0;
+  /// The association radius used, cloud units: RegistrationOptions::radius, or the automatic one.
+  double radius = 0.0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
   /// left about the target's per-axis median point, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();

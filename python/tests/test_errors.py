@@ -48,9 +48,8 @@ def test_nan_only_and_empty_clouds_refused_by_the_library(which):
 
 
 @pytest.mark.parametrize("options, message", [
-    (dict(radius=-1), "radius must be > 0, got -1"),
-    (dict(radius=0.0), "radius must be > 0, got 0"),
-    (dict(radius=float("nan")), "radius must be > 0, got nan"),
+    (dict(radius=-1), "radius must be > 0, or 0 for automatic, got -1"),
+    (dict(radius=float("nan")), "radius must be > 0, or 0 for automatic, got nan"),
     (dict(max_neighbours=0), "max_neighbours must be in [1, 1024], got 0"),
     (dict(dof=0), "dof must be > 0, got 0"),
     (dict(source_voxel=-0.5), "source_voxel must be >= 0, got -0.5"),

@@ -11,7 +11,7 @@ from conftest import REPO
 WORDS = {"ErrorModel::kPlane": "plane", "ErrorModel::kPoint": "point",
          "WeightModel::kStudentT": "student_t", "WeightModel::kGaussian": "gaussian",
          "ScaleMode::kEM": "em", "ScaleMode::kRaw": "raw", "ScaleMode::kFixed": "fixed",
-         "kCriterionCostDrop": ["cost_drop"], "kAutomatic": -1.0,
+         "kCriterionCostDrop": ["cost_drop"], "kAutomatic": -1.0, "kAutomaticRadius": 0.0,
          "static_cast<int>(kAutomatic)": -1, "true": True, "false": False}
 
 

@@ -181,7 +181,7 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
   // The start is far: the ground truth's rotation is 34.3 degrees (the scan is nominally at 45
   // degrees, as the data README says, but bun045_gt.txt rotates by 34.3).
   CHECK(ppcr::rotation_error_deg(Eigen::Isometry3d::Identity(), T_gt) > 30.0);
-  // Measured (this test at b2a694d): plane 0.066 degrees / 0.05 mm, with source normals 0.080 /
+  // Measured when written: plane 0.066 degrees / 0.05 mm, with source normals 0.080 /
   // 0.04 mm, with the noise floor 0.082 / 0.04 mm, issue #8's setting with 5 neighbours and
   // coarse stride 3 (docs/BENCHMARK.md) 0.046 / 0.02 mm; point 0.39 degrees / 0.5 mm (the
   // authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in millimetres).
@@ -241,7 +241,7 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
         CHECK(r.target_surface_noise > 0.03);
         CHECK(r.target_surface_noise < 0.1);
       }
-      // Measured (this test at b2a694d, both yaw signs): plane 0.13 degrees / 8 mm (the issue's
+      // Measured when written (both yaw signs): plane 0.13 degrees / 8 mm (the issue's
       // EM prototype: a 1.2 degree local minimum on this yaw), with source normals 0.15 degrees /
       // 7 mm, with the noise floor 0.21 degrees / 4 mm, issue #8's setting with 5 neighbours and
       // coarse stride 3 0.14 degrees / 8 mm; point 0.19 degrees / 10 mm.
@@ -289,6 +289,57 @@ TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and floa
           2.0 * std::asin((r.T_target_source.linear() - ref.T_target_source.linear()).norm() /
                           (2.0 * std::sqrt(2.0)));
       CHECK(angle < (as_float ? 1e-6 : 1e-9));
+    }
+  }
+}
+
+// No radius given: the automatic one (8 target point spacings) registers the bunny in
+// millimetres and the LiDAR pair in centimetres as the tuned radius does in metres.
+TEST_CASE("automatic radius: the bunny in millimetres, the LiDAR pair in centimetres", "[real]") {
+  auto scaled = [](const PointCloud& cloud, double c) {
+    PointCloud out(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) out[i] = c * cloud[i];
+    return out;
+  };
+  auto in_units = [](Eigen::Isometry3d T, double c) {
+    T.translation() *= c;
+    return T;
+  };
+  SECTION("bunny, millimetres, 2 mm voxels, from identity (34 degrees off)") {
+    const PointCloud target = scaled(load_cloud("bunny/bun000.ply"), 1000.0);
+    const PointCloud source = scaled(load_cloud("bunny/bun045.ply"), 1000.0);
+    const Eigen::Isometry3d T_gt = in_units(load_transform("bunny/bun045_gt.txt"), 1000.0);
+    RegistrationOptions o;
+    o.source_voxel = o.target_voxel = 2.0;
+    REQUIRE(o.radius == RegistrationOptions::kAutomaticRadius);  // the default
+    const RegistrationResult r = ppcr::align(source, target, o);
+    INFO(describe(r, T_gt) << ", radius " << r.radius << ", spacing " << r.target_spacing);
+    REQUIRE(r.converged());
+    CHECK(r.radius == RegistrationOptions::kAutomaticRadiusSpacings * r.target_spacing);
+    CHECK(r.radius > 5.0);  // about 11 mm: the spacing is about 1.4 mm
+    CHECK(r.radius < 20.0);
+    CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.2);
+    CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 0.5);  // mm
+    CHECK(r.quality == ppcr::Quality::kGood);
+  }
+  SECTION("lidar, centimetres, 20 cm voxels, from a 10 degree / 50 cm perturbation") {
+    const PointCloud source = scaled(load_cloud("lidar/source.ply"), 100.0);
+    const PointCloud target = scaled(load_cloud("lidar/target.ply"), 100.0);
+    const Eigen::Isometry3d T_gt = in_units(load_transform("lidar/source_gt.txt"), 100.0);
+    RegistrationOptions o;
+    o.source_voxel = o.target_voxel = 20.0;
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::Isometry3d perturbation =
+          core_test::make_pose(Eigen::Vector3d(0.1, 0.05, 1.0), sign * core_test::deg2rad(10.0),
+                               50.0 * Eigen::Vector3d(0.8, 0.6, 0.0));
+      const RegistrationResult r = ppcr::align(source, target, o, perturbation * T_gt);
+      INFO("yaw sign " << sign << ": " << describe(r, T_gt) << ", radius " << r.radius);
+      REQUIRE(r.converged());
+      CHECK(r.radius > 50.0);  // about 1.1 m: the spacing is about 14 cm
+      CHECK(r.radius < 200.0);
+      CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.3);
+      CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 3.0);  // cm
+      CHECK(r.quality == ppcr::Quality::kGood);
     }
   }
 }

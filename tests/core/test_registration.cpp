@@ -92,7 +92,6 @@ struct BadOption {
 std::vector<BadOption> bad_options() {
   using O = RegistrationOptions;
   return {
-      {"radius 0", [](O& o) { o.radius = 0.0; }, {"radius", "0"}},
       {"radius -1", [](O& o) { o.radius = -1.0; }, {"radius", "-1"}},
       {"radius NaN", [](O& o) { o.radius = kNaN; }, {"radius", "nan"}},
       {"radius Inf", [](O& o) { o.radius = kInf; }, {"radius", "inf"}},
@@ -1385,4 +1384,39 @@ TEST_CASE("a wrong result is not called good: the scene registered from 120 degr
   REQUIRE(rotation_error_deg(r.T_target_source, sc.T_true) > 10.0);
   CHECK(r.quality != ppcr::Quality::kGood);
   CHECK(std::string(r.quality_reason).size() > 0);
+}
+
+TEST_CASE("automatic radius: 8 target point spacings, reported; none without a spacing",
+          "[registration]") {
+  const Scene sc = make_scene(1500, 4000, false);
+  RegistrationOptions o;  // radius: automatic by default
+  REQUIRE(o.radius == RegistrationOptions::kAutomaticRadius);
+  const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
+  REQUIRE(r.status.ok());
+  // Brute force: upper median of each target point's distance to its nearest other point.
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < sc.target.size(); ++i) {
+    double best = HUGE_VAL;
+    for (std::size_t k = 0; k < sc.target.size(); ++k) {
+      const double d = (sc.target[k] - sc.target[i]).squaredNorm();
+      if (k != i && d > 0.0) best = std::min(best, d);
+    }
+    nearest.push_back(std::sqrt(best));
+  }
+  std::sort(nearest.begin(), nearest.end());
+  const double spacing = nearest[nearest.size() / 2];
+  CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
+  CHECK(r.radius == Approx(8.0 * spacing).epsilon(1e-9));
+  CHECK(r.converged());
+  CHECK(rms_error(sc.source, r.T_target_source, sc.T_true) < 1e-3);
+  // A user's radius is reported as given.
+  o.radius = 0.2;
+  CHECK(ppcr::align(sc.source, sc.target, o).radius == 0.2);
+  // A target of one repeated point has no spacing: an error naming the radius.
+  o.radius = RegistrationOptions::kAutomaticRadius;
+  const PointCloud same(50, Eigen::Vector3d(1, 2, 3));
+  const RegistrationResult none = ppcr::align(sc.source, same, o);
+  CHECK(none.status.code() == StatusCode::kInvalidArgument);
+  CHECK(contains(none.status.message(), "radius"));
+  CHECK(none.quality == ppcr::Quality::kFailed);
 }

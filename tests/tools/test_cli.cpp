@@ -113,7 +113,7 @@ TEST_CASE("ppcr_cli: empty, negative and oversized values are refused with the f
       {"--cost-drop-threshold -0.5", "--cost-drop-threshold"},
       {"--steps-threshold -1", "--steps-threshold"},
       {"--neighbour-cache 2147483647", "--neighbour-cache"},
-      {"--radius 0", "--radius"},
+      {"--radius -1", "--radius"},
   };
   for (const auto& [args, flag] : cases) {
     const Run r = run_cli(pair_args() + " " + args);
@@ -194,4 +194,19 @@ TEST_CASE("ppcr_cli: a result that fails the verdict is exit 3, never 0", "[cli]
   CHECK(r.status == 3);
   CHECK(contains(r.out, "\"quality\": \"failed\""));
   CHECK(contains(r.err, "failed its quality check"));
+}
+
+TEST_CASE("ppcr_cli without --radius: the automatic radius, named in the JSON", "[cli]") {
+  write_pair();
+  const std::string clouds = "'" + kDir + "/source.xyz' '" + kDir + "/target.xyz'";
+  Run r = run_cli(clouds + " --json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(contains(r.out, "\"radius_source\": \"auto\""));
+  // The grid's spacing is 2 cm: 8 spacings.
+  CHECK(contains(r.out, "\"radius_used\": 0.16"));
+  CHECK(contains(r.err, "radius 0.16"));
+  r = run_cli(pair_args() + " --json");
+  CHECK(contains(r.out, "\"radius_source\": \"user\""));
+  CHECK(contains(r.out, "\"radius_used\": 0.1"));
 }

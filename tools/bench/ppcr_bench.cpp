@@ -155,6 +155,15 @@ int parse(int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* option
   if (a->reuse && a->method_name != "ppcr") {
     return fail("--reuse is for --method ppcr, got " + a->method_name);
   }
+  const bool automatic = options->radius == ppcr::RegistrationOptions::kAutomaticRadius;
+  if (automatic && a->method_name != "ppcr") {
+    return fail("--method " + a->method_name + " needs --radius (only ppcr has an automatic one)");
+  }
+  if (automatic && a->success_translation < 0.0) {
+    return fail(
+        "--success-translation is needed with an automatic radius (its default is a "
+        "tenth of --radius)");
+  }
   if (a->success_translation < 0.0) a->success_translation = 0.1 * options->radius;
   return -1;
 }

@@ -37,7 +37,10 @@ CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string
 void add_user_flags(CLI::App& app, RegistrationFlags* f) {
   ppcr::RegistrationOptions& o = f->options;
   value(app, "--radius", &o.radius,
-        "association radius, cloud units (default " + str(o.radius) + ")", kRegistrationGroup);
+        "association radius, cloud units; it must cover the misalignment (default: automatic, " +
+            str(ppcr::RegistrationOptions::kAutomaticRadiusSpacings) +
+            " x the filtered target's median point spacing; 0 asks for it too)",
+        kRegistrationGroup);
   value(app, "--max-neighbours", &o.max_neighbours,
         "target points associated with each source point (default " +
             std::to_string(o.max_neighbours) + ")",

@@ -19,7 +19,7 @@ nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M) {
 }
 
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double time_ms,
-                                   const ppcr::PoseErrors* gt) {
+                                   bool automatic_radius, const ppcr::PoseErrors* gt) {
   nlohmann::ordered_json j;
   j["transform"] = matrix_json(r.T_target_source.matrix());
   j["status"] = ppcr::to_string(r.status.code());
@@ -31,6 +31,8 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["lm_successful_steps"] = r.lm_successful_steps;
   j["initial_cost"] = r.initial_cost;
   j["final_cost"] = r.final_cost;
+  j["radius_used"] = r.radius;
+  j["radius_source"] = automatic_radius ? "auto" : "user";
   j["scale"] = r.scale;
   j["target_surface_noise"] = r.target_surface_noise;
   j["time_ms"] = time_ms;

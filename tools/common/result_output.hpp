@@ -17,8 +17,9 @@ namespace ppcr_tools {
 nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M);
 
 /// The result object of ppcr_cli --json (keys documented in README).
+/// automatic_radius: the options asked for the automatic radius (JSON radius_source).
 nlohmann::ordered_json result_json(const ppcr::RegistrationResult& result, double time_ms,
-                                   const ppcr::PoseErrors* gt);
+                                   bool automatic_radius, const ppcr::PoseErrors* gt);
 
 /// One CSV row per outer iteration: iteration, phase (coarse or fine), successful_steps,
 /// unsuccessful_steps, initial_cost, final_cost, cost_drop, mse_prev, mse_ground_truth,
