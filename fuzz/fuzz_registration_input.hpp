@@ -222,7 +222,7 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   o.expert.mse_patience = (in.u8() + 3) % 8;
   o.expert.successful_steps_patience = (in.u8() + 3) % 8;
   o.expert.successful_steps_threshold = (in.u8() + 1) % 8;
-  o.expert.em_coarse_patience = (in.u8() + 10) % 16;
+  o.expert.em_coarse_patience = (in.u8() + defaults.expert.em_coarse_patience) % 16;
   o.expert.em_min_shrink = ((in.u8() + 63) % 256 + 1) / 256.0;  // 0 -> 0.25, the default
   o.expert.cost_drop_threshold = 0.01 * in.positive();
   const double cd_motion = in.positive(), em_motion = in.positive(), em_min = in.positive();

@@ -60,7 +60,7 @@ struct ExpertOptions {
   ScaleMode scale_mode = ScaleMode::kEM;
   double scale = 0.0;            // kFixed: s (> 0). kEM: the coarse s (0 = radius / 2). Cloud units
   double em_coarse_drop = 0.01;  // kEM coarse phase: a relative cost drop below this is settled...
-  int em_coarse_patience = 10;   // ...for more than this many consecutive iterations (>= 0)
+  int em_coarse_patience = 5;   // ...for more than this many consecutive iterations (>= 0)
   double em_min_shrink = 0.25;   // kEM fine phase: s^2 shrinks by at most this factor per
                                  // iteration, in (0, 1]
   double em_min_scale = 0.0;     // kEM fine phase: floor on s, cloud units (>= 0; 0 = none)
@@ -75,8 +75,8 @@ struct ExpertOptions {
   // Termination (docs/TERMINATION.md).
   int fixed_iterations = 100;          // kCriterionFixed: stop at this iteration (>= 1)
   double cost_drop_threshold = 0.01;   // kCriterionCostDrop: low drop, fraction (paper: 1 %), >= 0
-  int cost_drop_patience = 8;          // kCriterionCostDrop: low iterations tolerated (paper: 10)
-  double cost_drop_max_motion = 0.02;  // kCriterionCostDrop: a low iteration must also move the
+  int cost_drop_patience = 6;          // kCriterionCostDrop: low iterations tolerated (paper: 10)
+  double cost_drop_max_motion = 0.03;  // kCriterionCostDrop: a low iteration must also move the
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule
   double mse_ratio_threshold = 2.0;    // kCriterionMsePrev: low when MSE_t < MSE_{t-1} / this (> 0)
