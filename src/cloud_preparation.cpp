@@ -38,14 +38,14 @@ Eigen::Vector3d median_origin(const PointCloud& cloud, std::vector<double>* scra
   return origin;
 }
 
-// Shifts out->points by their median into out->centered, dropping points whose squared distance
-// from the origin overflows (no squared distance to them is finite).
-void center(PreparedCloud* out) {
-  out->origin = median_origin(out->points, &out->scratch);
+// Sets out->centered[i] = internal(i) and keeps the points whose squared norm there is finite
+// (no squared distance to the others is), in order, counting the dropped ones.
+template <class Internal>
+void keep_finite(PreparedCloud* out, Internal internal) {
   out->centered.resize(out->points.size());
   std::size_t kept = 0;
   for (std::size_t i = 0; i < out->points.size(); ++i) {
-    const Eigen::Vector3d c = out->points[i] - out->origin;
+    const Eigen::Vector3d c = internal(i);
     if (!std::isfinite(c.squaredNorm())) continue;
     out->points[kept] = out->points[i];
     out->centered[kept] = c;
@@ -54,6 +54,12 @@ void center(PreparedCloud* out) {
   out->dropped += out->points.size() - kept;
   out->points.resize(kept);
   out->centered.resize(kept);
+}
+
+// Shifts out->points by their median into out->centered.
+void center(PreparedCloud* out) {
+  out->origin = median_origin(out->points, &out->scratch);
+  keep_finite(out, [out](std::size_t i) { return Eigen::Vector3d(out->points[i] - out->origin); });
 }
 
 double max_abs(const PointCloud& centered) {
@@ -77,20 +83,10 @@ Status check_resolution(const char* name, const PreparedCloud& cloud) {
   return Status::Ok();
 }
 
-// Divides the centred points by out->unit, dropping those whose squared norm then overflows (a
-// source far outside the target's scale).
+// Divides the centred points by out->unit (a source far outside the target's scale can then
+// overflow).
 void divide_by_unit(PreparedCloud* out) {
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < out->points.size(); ++i) {
-    const Eigen::Vector3d c = out->centered[i] / out->unit;
-    if (!std::isfinite(c.squaredNorm())) continue;
-    out->points[kept] = out->points[i];
-    out->centered[kept] = c;
-    ++kept;
-  }
-  out->dropped += out->points.size() - kept;
-  out->points.resize(kept);
-  out->centered.resize(kept);
+  keep_finite(out, [out](std::size_t i) { return Eigen::Vector3d(out->centered[i] / out->unit); });
 }
 
 }  // namespace

@@ -69,6 +69,22 @@ double rms_error(const PointCloud& source, const Eigen::Isometry3d& A, const Eig
   return std::sqrt(sum / static_cast<double>(source.size()));
 }
 
+// The point spacing by brute force: upper median over every point of the distance to its
+// nearest other point (RegistrationResult::target_spacing when the cloud has <= 4096 x 2).
+double brute_force_spacing(const PointCloud& cloud) {
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    double best = HUGE_VAL;
+    for (std::size_t k = 0; k < cloud.size(); ++k) {
+      const double d = (cloud[k] - cloud[i]).squaredNorm();
+      if (k != i && d > 0.0) best = std::min(best, d);
+    }
+    nearest.push_back(std::sqrt(best));
+  }
+  std::sort(nearest.begin(), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
 double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return core_test::angle_between_deg(a.linear(), b.linear());
 }
@@ -1334,19 +1350,9 @@ TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[r
     CHECK(r.overlap == Approx(source_normals ? both : r.fitness).epsilon(1e-12));
     CHECK(r.fitness > 0.9);  // a correct registration of overlapping samples
     CHECK(r.quality_ms >= 0.0);
-    // The target's spacing: upper median over its points (8000 <= 2 x 4096 samples: all) of the
-    // distance to the nearest other point; then the matched source points within twice that.
-    std::vector<double> nearest;
-    for (std::size_t i = 0; i < sc.target.size(); ++i) {
-      double best = HUGE_VAL;
-      for (std::size_t k = 0; k < sc.target.size(); ++k) {
-        const double d = (sc.target[k] - sc.target[i]).squaredNorm();
-        if (k != i && d > 0.0) best = std::min(best, d);
-      }
-      nearest.push_back(std::sqrt(best));
-    }
-    std::sort(nearest.begin(), nearest.end());
-    const double spacing = nearest[nearest.size() / 2];
+    // The target's spacing (8000 <= 2 x 4096 samples: every point), then the matched source
+    // points within twice that.
+    const double spacing = brute_force_spacing(sc.target);
     CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
     std::size_t close = 0;
     for (const Eigen::Vector3d& x : sc.source) {
@@ -1393,18 +1399,7 @@ TEST_CASE("automatic radius: 8 target point spacings, reported; none without a s
   REQUIRE(o.radius == RegistrationOptions::kAutomaticRadius);
   const RegistrationResult r = ppcr::align(sc.source, sc.target, o);
   REQUIRE(r.status.ok());
-  // Brute force: upper median of each target point's distance to its nearest other point.
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < sc.target.size(); ++i) {
-    double best = HUGE_VAL;
-    for (std::size_t k = 0; k < sc.target.size(); ++k) {
-      const double d = (sc.target[k] - sc.target[i]).squaredNorm();
-      if (k != i && d > 0.0) best = std::min(best, d);
-    }
-    nearest.push_back(std::sqrt(best));
-  }
-  std::sort(nearest.begin(), nearest.end());
-  const double spacing = nearest[nearest.size() / 2];
+  const double spacing = brute_force_spacing(sc.target);
   CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
   CHECK(r.radius == Approx(8.0 * spacing).epsilon(1e-9));
   CHECK(r.converged());
