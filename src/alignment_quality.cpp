@@ -16,15 +16,16 @@ constexpr std::size_t kBlock = 1024;
 
 struct Sums {
   double matched = 0.0;  // counts, exact in a double up to 2^53
-  double close = 0.0;
+  double near = 0.0;     // matched within near_sq
+  double close = 0.0;    // matched within close_sq
   double dist_sq = 0.0;
 };
-constexpr std::size_t kSums = 3;
+constexpr std::size_t kSums = 4;
 
-// Nearest point of `tree` within radius of each T * points[i] (and whether it is within
-// close_sq), summed per block, then in order.
+// Nearest point of `tree` within radius of each T * points[i] (and whether it is within near_sq
+// and close_sq), summed per block, then in order.
 Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::Isometry3d& T,
-                    double radius_sq, double close_sq, int num_threads,
+                    double radius_sq, double near_sq, double close_sq, int num_threads,
                     std::vector<double>* scratch) {
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
@@ -38,20 +39,23 @@ Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::I
       double d_sq;
       if (tree.radius_knn(T * points[i], 1, radius_sq, &index, &d_sq) == 1) {
         s.matched += 1.0;
+        s.near += d_sq <= near_sq ? 1.0 : 0.0;
         s.close += d_sq <= close_sq ? 1.0 : 0.0;
         s.dist_sq += d_sq;
       }
     }
     double* out = blocks + kSums * static_cast<std::size_t>(b);
     out[0] = s.matched;
-    out[1] = s.close;
-    out[2] = s.dist_sq;
+    out[1] = s.near;
+    out[2] = s.close;
+    out[3] = s.dist_sq;
   });
   Sums total;
   for (std::size_t b = 0; b < n_blocks; ++b) {
     total.matched += blocks[kSums * b];
-    total.close += blocks[kSums * b + 1];
-    total.dist_sq += blocks[kSums * b + 2];
+    total.near += blocks[kSums * b + 1];
+    total.close += blocks[kSums * b + 2];
+    total.dist_sq += blocks[kSums * b + 3];
   }
   return total;
 }
@@ -61,21 +65,22 @@ Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::I
 AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& target,
                                    const PointCloud& source, const KdTree* source_tree,
                                    const Eigen::Isometry3d& T_target_source, double radius,
-                                   double close_distance, int num_threads,
+                                   double near_distance, double close_distance, int num_threads,
                                    std::vector<double>* scratch) {
   AlignmentQuality q;
   if (source.empty() || target.empty()) return q;
   const double radius_sq = radius * radius;
+  const double near_sq = near_distance * near_distance;
   const double close_sq = close_distance * close_distance;
-  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, close_sq,
+  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq, close_sq,
                                 num_threads, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
-  q.close_fraction = s.matched > 0.0 ? s.close / s.matched : 0.0;
+  q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
     const Sums back = nearest_within(*source_tree, target, T_target_source.inverse(), radius_sq,
-                                     close_sq, num_threads, scratch);
+                                     near_sq, close_sq, num_threads, scratch);
     q.overlap = std::min(q.fitness, back.matched / static_cast<double>(target.size()));
   }
   return q;

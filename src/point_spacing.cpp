@@ -15,8 +15,8 @@ double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t 
   scratch->clear();
   if (points.size() < 2 || max_samples == 0) return 0.0;
   const std::size_t stride = std::max<std::size_t>(1, points.size() / max_samples);
-  // The point itself and up to 3 duplicates of it come first.
-  constexpr int kNeighbours = 5;
+  // The point itself and up to 14 duplicates of it come first.
+  constexpr int kNeighbours = 16;
   std::uint32_t idx[kNeighbours];
   double d2[kNeighbours];
   for (std::size_t i = 0; i < points.size(); i += stride) {

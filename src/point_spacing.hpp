@@ -14,9 +14,10 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-/// The median, over up to max_samples points spread evenly through `points` (tree indexes
-/// them), of the distance from a point to its nearest other point at a non-zero distance
-/// (duplicates skipped). 0 when no point has such a neighbour. Deterministic.
+/// The median, over every floor(n / max_samples)-th point of `points` (tree indexes them; all
+/// points below 2 x max_samples), of the distance from a point to its nearest other point at a
+/// non-zero distance (up to 14 duplicates of it skipped). 0 when no sampled point has such a
+/// neighbour. Deterministic.
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
                       std::vector<double>* scratch);
 

@@ -91,10 +91,10 @@ void set_verdict(RegistrationResult* result) {
 RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
                            RegistrationResult result) {
   result.status = s;
-  set_verdict(&result);
   result.stop_reason = StopReason::kInvalidInput;
   result.T_target_source =
       T_initial.matrix().allFinite() ? T_initial : Eigen::Isometry3d::Identity();
+  set_verdict(&result);
   return result;
 }
 
@@ -298,8 +298,10 @@ LMSummary Registration::Impl::solve(Run* run, bool coarse, Eigen::Isometry3d* T)
 }
 
 Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
+  const bool automatic = options.radius == RegistrationOptions::kAutomaticRadius;
   return Status(StatusCode::kNoCorrespondences,
                 "no source point has a target point within radius " + num(radius) +
+                    (automatic ? " (automatic: give a radius that covers the misalignment)" : "") +
                     "; source (moved by the initial guess) spans " +
                     extent(source.points, T_initial) + ", target spans " +
                     extent(target.points, Eigen::Isometry3d::Identity()));
@@ -390,18 +392,22 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   }
   result->stop_reason = reason;
   result->scale = run.frame.length(std::sqrt(run.scale.scale_sq()));
-  result->information = run.frame.information(lm.last().H);
   if (result->iterations == 0) return;
+  result->information = run.frame.information(lm.last().H);
   const Clock::time_point start = Clock::now();
   const bool source_indexed =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      solver.radius, kCloseSpacings * target_spacing, options.num_threads, &quality_scratch);
+      solver.radius,
+      std::min(solver.radius, RegistrationOptions::kAutomaticRadiusSpacings * target_spacing),
+      kCloseSpacings * target_spacing, options.num_threads, &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);
   result->overlap = q.overlap;
-  result->close_fraction = q.close_fraction;
+  // Without a spacing (a target of duplicated points) there is no surface to be close to.
+  result->close_fraction =
+      target_spacing > 0.0 ? q.close_fraction : std::numeric_limits<double>::quiet_NaN();
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (options.error_model != ErrorModel::kPlane) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(

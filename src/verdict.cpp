@@ -26,21 +26,21 @@ Verdict judge(const RegistrationResult& r) {
   }
   if (r.close_fraction < kFailedClose) {
     return {Quality::kFailed,
-            "fewer than 50 % of the matched source points lie within 2 point spacings of the "
-            "target: the surfaces do not coincide"};
+            "fewer than 50 % of the source points near the target lie within 2 point "
+            "spacings of it: the surfaces do not coincide"};
   }
   if (r.close_fraction < kWeakClose) {
     return {Quality::kWeak,
-            "fewer than 75 % of the matched source points lie within 2 point spacings of the "
-            "target"};
+            "fewer than 75 % of the source points near the target lie within 2 point "
+            "spacings of it"};
   }
   if (r.fitness < kWeakFitness) {
     return {Quality::kWeak, "fitness below 50 %: little overlap, or a wrong pose"};
   }
   if (r.degenerate_directions > 0 && r.close_fraction < kDegenerateClose) {
     return {Quality::kWeak,
-            "the target's surfaces leave directions free and fewer than 90 % of the matched "
-            "source points lie within 2 point spacings of the target"};
+            "the target's surfaces leave directions free and fewer than 90 % of the source "
+            "points near the target lie within 2 point spacings of it"};
   }
   if (r.stop_reason == StopReason::kMaxIterations) {
     return {Quality::kWeak, "the iteration cap stopped the registration before its criterion"};

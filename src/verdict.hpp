@@ -4,7 +4,8 @@
 // Rules, in order (the first that fires gives the reason; docs/BENCHMARK.md, "The verdict", has
 // the measurements they were chosen on and how well they separate right from wrong results):
 //   failed: the status is not ok (refused input, no correspondence, numerical failure); fitness
-//           below kFailedFitness; close_fraction below kFailedClose.
+//           below kFailedFitness; close_fraction below kFailedClose (a NaN close_fraction, a
+//           target without a spacing, skips the close_fraction rules).
 //   weak:   close_fraction below kWeakClose; fitness below kWeakFitness; degenerate directions
 //           with close_fraction below kDegenerateClose (free directions alone flag many right
 //           results, so they count only with a loose fit); the iteration cap, or a cancel.

@@ -120,7 +120,7 @@ def settling_mask(trace, scale_mode="auto", shrink=None):
 DEFAULT_SCALE_SHRINK = 0.25
 
 # The library's default --motion-guard (TerminationCriteria::cost_drop_max_motion).
-DEFAULT_MOTION_GUARD = 0.02
+DEFAULT_MOTION_GUARD = 0.03
 
 
 def simulate_stop(trace, spec, settling, radius=1.0):

@@ -33,7 +33,7 @@ const char* to_string(StopReason reason);
 enum class Quality {
   kGood,    // the clouds agree: no rule below fired
   kWeak,    // plausible, but a warning sign: low fitness, a loose fit, free directions with a
-            // loose fit, or the iteration cap; check it
+            // loose fit, the iteration cap or a cancel; check it
   kFailed,  // refused input or a failure, nothing matched, or most matched points off the
             // target's surface: the pose is not to be used
 };
@@ -87,7 +87,7 @@ struct RegistrationResult {
   /// fit's points from their plane (sensor noise and roughness); 0 for the point model.
   double target_surface_noise = 0.0;
   /// The target's point spacing, cloud units: the median distance from a (filtered) target point
-  /// to its nearest other point, over up to 4096 points spread through the cloud.
+  /// to its nearest other point (duplicates skipped), over every floor(n / 4096)-th point.
   double target_spacing = 0.0;
   /// The association radius used, cloud units: RegistrationOptions::radius, or the automatic one.
   double radius = 0.0;
@@ -105,8 +105,9 @@ struct RegistrationResult {
   double inlier_rmse = 0.0;     // RMS distance of those points to their nearest target point
   double overlap = 0.0;         // the matched fraction both ways: min(fitness, target's fraction);
                                 // fitness when no source index exists (source normals off)
-  double close_fraction = 0.0;  // of the matched source points, the fraction within 2 target
-                                // point spacings of their nearest target point: on its surface
+  double close_fraction = 0.0;  // of the source points within min(radius, 8 target point
+                                // spacings) of the target, the fraction within 2 spacings: on
+                                // its surface (NaN when the target has no spacing)
   Quality quality = Quality::kFailed;  // the verdict (see Quality), set by every align()
   const char* quality_reason = "";     // why it is not kGood: one sentence, static text
   double quality_ms = 0.0;             // wall time of these measures (not part of the loop)

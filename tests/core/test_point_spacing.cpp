@@ -42,7 +42,7 @@ TEST_CASE("median_spacing: brute force, all points and a sample; duplicates skip
   std::vector<double> scratch;
   CHECK(ppcr::detail::median_spacing(points, tree, 4096, &scratch) ==
         Approx(brute_force(points, 1)).epsilon(1e-12));
-  // 3300 points, at most 1000 samples: every 3rd point.
+  // 3300 points, 1000 samples asked: every floor(3300 / 1000) = 3rd point.
   CHECK(ppcr::detail::median_spacing(points, tree, 1000, &scratch) ==
         Approx(brute_force(points, 3)).epsilon(1e-12));
   // A cloud of one repeated point has no spacing.

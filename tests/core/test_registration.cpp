@@ -1354,14 +1354,17 @@ TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[r
     // points within twice that.
     const double spacing = brute_force_spacing(sc.target);
     CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
-    std::size_t close = 0;
+    // ... over the source points within min(radius, 8 spacings) of the target.
+    const double near = std::min(o.radius, 8.0 * spacing);
+    std::size_t close = 0, near_count = 0;
     for (const Eigen::Vector3d& x : sc.source) {
       double best = HUGE_VAL;
       for (const Eigen::Vector3d& y : sc.target)
         best = std::min(best, (y - r.T_target_source * x).squaredNorm());
+      if (best <= radius_sq && best <= near * near) ++near_count;
       if (best <= radius_sq && best <= 4.0 * spacing * spacing) ++close;
     }
-    CHECK(r.close_fraction == Approx(static_cast<double>(close) / n).epsilon(1e-12));
+    CHECK(r.close_fraction == Approx(static_cast<double>(close) / near_count).epsilon(1e-12));
     CHECK(r.quality == ppcr::Quality::kGood);
   }
   // A registration that found nothing measures nothing.
@@ -1414,4 +1417,31 @@ TEST_CASE("automatic radius: 8 target point spacings, reported; none without a s
   CHECK(none.status.code() == StatusCode::kInvalidArgument);
   CHECK(contains(none.status.message(), "radius"));
   CHECK(none.quality == ppcr::Quality::kFailed);
+}
+
+TEST_CASE("the verdict does not fall with a radius far larger than the scene", "[registration]") {
+  // A target that covers part of the source, registered with the scene's radius and with 1000 m
+  // ("no radius"): every source point is then within the radius, most far from the target, but
+  // the share on the target's surface is taken within 8 spacings, so a right partial-overlap
+  // result stays right.
+  const Scene sc = make_scene(3000, 8000, false);
+  PointCloud part;
+  for (const Eigen::Vector3d& y : sc.target) {
+    if (y.x() < 0.2) part.push_back(y);
+  }
+  REQUIRE(part.size() > 2000);
+  RegistrationOptions o = scene_options();
+  const RegistrationResult scene_radius = ppcr::align(sc.source, part, o);
+  o.radius = 1000.0;
+  const RegistrationResult huge = ppcr::align(sc.source, part, o);
+  for (const RegistrationResult* r : {&scene_radius, &huge}) {
+    INFO("radius " << r->radius << ": " << ppcr::to_string(r->quality) << " " << r->quality_reason
+                   << ", close " << r->close_fraction << ", fitness " << r->fitness);
+    REQUIRE(r->status.ok());
+    CHECK(rms_error(sc.source, r->T_target_source, sc.T_true) < 5e-3);  // 0.3 / 2 mm
+    CHECK(r->quality == ppcr::Quality::kGood);
+    CHECK(r->close_fraction > 0.75);
+  }
+  CHECK(huge.fitness == 1.0);
+  CHECK(scene_radius.fitness < 0.9);
 }

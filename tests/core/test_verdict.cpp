@@ -1,6 +1,7 @@
 // The verdict's rules (verdict.hpp) against their documented statement, one rule at a time, at
 // and beside each threshold, and in their documented order.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <string>
 
 #include "ppcr/result.hpp"
@@ -81,6 +82,8 @@ TEST_CASE("verdict: each rule at and beside its threshold", "[verdict]") {
          r->close_fraction = 0.8;
        },
        Quality::kGood, ""},
+      {"no spacing (NaN close fraction): the close rules are skipped",
+       [](RegistrationResult* r) { r->close_fraction = std::nan(""); }, Quality::kGood, ""},
       {"the iteration cap",
        [](RegistrationResult* r) { r->stop_reason = StopReason::kMaxIterations; }, Quality::kWeak,
        "iteration cap"},

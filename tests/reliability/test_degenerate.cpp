@@ -349,6 +349,7 @@ TEST_CASE("units never change the answer: the same pair scaled by 1e-12 to 1e12 
       // The information of the rotation block scales with length^2, the coupling with length.
       CHECK(r.information(0, 0) / (c * c) == Approx(ref.information(0, 0)).epsilon(1e-9));
       CHECK(r.information(5, 5) == Approx(ref.information(5, 5)).epsilon(1e-9));
+      CHECK(r.information(1, 4) / c == Approx(ref.information(1, 4)).epsilon(1e-7));
     }
   }
 }

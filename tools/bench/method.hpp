@@ -41,6 +41,7 @@ struct MethodResult {
   double target_surface_noise = std::numeric_limits<double>::quiet_NaN();
   double target_spacing = std::numeric_limits<double>::quiet_NaN();
   double close_fraction = std::numeric_limits<double>::quiet_NaN();
+  double radius = std::numeric_limits<double>::quiet_NaN();  // the radius used
   int degenerate_directions = -1;
   std::string quality;
   double quality_ms = std::numeric_limits<double>::quiet_NaN();

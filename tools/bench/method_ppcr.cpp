@@ -51,6 +51,7 @@ class PpcrMethod : public Method {
     out.target_surface_noise = r.target_surface_noise;
     out.target_spacing = r.target_spacing;
     out.close_fraction = r.close_fraction;
+    out.radius = r.radius;
     out.quality = ppcr::to_string(r.quality);
     out.degenerate_directions = r.degenerate_directions;
     out.quality_ms = r.quality_ms;

@@ -279,7 +279,7 @@ int main(int argc, char** argv) {
                  "stop_reason,converged,ok,time_ms,source_points,target_points,success,fitness,"
                  "inlier_rmse,overlap,close_fraction,scale,target_surface_noise,target_spacing,"
                  "degenerate_directions,quality,"
-                 "quality_ms\n");
+                 "quality_ms,radius\n");
   }
   const bool bar = !a.quiet && isatty(fileno(stderr));
   CloudCache cache(a.data_root, options.target_voxel);
@@ -300,12 +300,13 @@ int main(int argc, char** argv) {
       std::fprintf(csv,
                    "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
                    "%.6g,%d,%s,"
-                   "%.3f\n",
+                   "%.3f,%.9g\n",
                    p.id.c_str(), label.c_str(), o.error, o.rotation_error_deg, o.translation_error,
                    o.iterations, r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0,
                    o.time_ms, run.source_points, run.target_points, success ? 1 : 0, r.fitness,
                    r.inlier_rmse, r.overlap, r.close_fraction, r.scale, r.target_surface_noise,
-                   r.target_spacing, r.degenerate_directions, r.quality.c_str(), r.quality_ms);
+                   r.target_spacing, r.degenerate_directions, r.quality.c_str(), r.quality_ms,
+                   r.radius);
     }
     if (bar) progress(i + 1, problems.size(), o.error);
   }
