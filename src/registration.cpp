@@ -33,7 +33,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kSpacingSamples = 4096;  // enough for a median, cheap on any cloud
-constexpr double kCloseSpacings = 2.0;         // RegistrationResult::close_fraction's distance
+constexpr double kCloseSpacings = 2.0;         // RegistrationResult::close_fraction's distance...
+constexpr double kNearSpacings = 8.0;          // ...and the reach of the points it is taken over
 using detail::num;
 
 // Poses and lengths between the user's frames and units and the internal ones
@@ -399,8 +400,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      solver.radius,
-      std::min(solver.radius, RegistrationOptions::kAutomaticRadiusSpacings * target_spacing),
+      solver.radius, std::min(solver.radius, kNearSpacings * target_spacing),
       kCloseSpacings * target_spacing, options.num_threads, &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);

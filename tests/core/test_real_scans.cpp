@@ -252,6 +252,18 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
   }
 }
 
+namespace {
+// Every coordinate times c, rounded to float32 when as_float (as a float file would hold it).
+PointCloud scaled(const PointCloud& cloud, double c, bool as_float = false) {
+  PointCloud out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out[i] = c * cloud[i];
+    if (as_float) out[i] = out[i].cast<float>().cast<double>();
+  }
+  return out;
+}
+}  // namespace
+
 // Units never change the answer (the solver works in units of the radius): the bunny pair with
 // its benchmark radius and voxels, every length scaled by c. In double precision the scaled pair
 // is the same problem to rounding; stored as float32 (as most files are), each scale rounds the
@@ -260,14 +272,6 @@ TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and floa
   const PointCloud target = load_cloud("bunny/bun000.ply");
   const PointCloud source = load_cloud("bunny/bun045.ply");
   const Eigen::Isometry3d T_gt = load_transform("bunny/bun045_gt.txt");
-  auto scaled = [](const PointCloud& cloud, double c, bool as_float) {
-    PointCloud out(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      out[i] = c * cloud[i];
-      if (as_float) out[i] = out[i].cast<float>().cast<double>();
-    }
-    return out;
-  };
   RegistrationOptions o;
   o.radius = 0.02;
   o.source_voxel = o.target_voxel = 0.002;
@@ -296,11 +300,6 @@ TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and floa
 // No radius given: the automatic one (8 target point spacings) registers the bunny in
 // millimetres and the LiDAR pair in centimetres as the tuned radius does in metres.
 TEST_CASE("automatic radius: the bunny in millimetres, the LiDAR pair in centimetres", "[real]") {
-  auto scaled = [](const PointCloud& cloud, double c) {
-    PointCloud out(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) out[i] = c * cloud[i];
-    return out;
-  };
   auto in_units = [](Eigen::Isometry3d T, double c) {
     T.translation() *= c;
     return T;
