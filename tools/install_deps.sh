@@ -4,7 +4,8 @@
 #   demo   what tools/demo.sh builds and runs: the compiler, the libraries, the tools' command-line
 #          and JSON parsers, and the Python module's build (pybind11, Python's headers, numpy)
 #   all    (the default) the demo's, and what the tests, fuzzers, benchmarks and plotting
-#          scripts use: Catch2, pytest, Google Benchmark, clang with its fuzzer runtime, matplotlib
+#          scripts use: Catch2, pytest, Google Benchmark, clang with its fuzzer runtime, matplotlib,
+#          GNU parallel (sharded benchmark runs)
 set -euo pipefail
 profile=all
 if [[ ${1:-} == demo || ${1:-} == all ]]; then
@@ -14,7 +15,8 @@ fi
 packages=(cmake g++ make libeigen3-dev libnanoflann-dev libcli11-dev nlohmann-json3-dev
           liblzf-dev pybind11-dev python3-dev python3-numpy)
 if [[ $profile == all ]]; then
-  packages+=(catch2 python3-pytest libbenchmark-dev python3-matplotlib clang libclang-rt-14-dev)
+  packages+=(catch2 python3-pytest libbenchmark-dev python3-matplotlib clang libclang-rt-14-dev
+             parallel)
 fi
 packages+=("$@")
 missing=()

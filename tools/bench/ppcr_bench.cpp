@@ -6,20 +6,25 @@
 //   e = mean_i |P_i - Q_i| / |P_i - c|,  Q = T_est S,  c = centroid of P,
 // on the full-resolution source, with the rotation and translation errors of T_est against
 // T0^-1. Time is the method's registration call only (no I/O, no filtering).
+//
+// --shard I/N runs the problems i with i mod N = I (a batch over processes or hosts); --merge
+// puts the shards' CSVs back together and prints the unsharded run's summary (merge.hpp).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "bench/merge.hpp"
 #include "bench/method.hpp"
 #include "bench/problems.hpp"
+#include "bench/results_csv.hpp"
+#include "bench/run_settings.hpp"
+#include "bench/shard.hpp"
 #include "bench/summary.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
@@ -92,6 +97,9 @@ void progress(std::size_t done, std::size_t total, double last_error) {
 
 struct Arguments {
   std::string problems_path, data_root, method_name = "ppcr", out_csv, trace_dir, label;
+  std::string shard_text;
+  ppcr_bench::Shard shard;
+  std::vector<std::string> merge;  // the shards' CSVs
   int limit = 0;
   bool json = false, quiet = false, reuse = false;
   double success_translation = -1.0, success_rotation = 1.0, ndt_resolution = 0.0;
@@ -99,8 +107,8 @@ struct Arguments {
 };
 
 void add_arguments(CLI::App& app, Arguments* a) {
-  app.add_option("PROBLEMS", a->problems_path, "problem file (id source target overlap t1..t12)")
-      ->required();
+  app.add_option("PROBLEMS", a->problems_path,
+                 "problem file (id source target overlap t1..t12); required unless --merge");
   app.add_option("--data-root", a->data_root,
                  "folder the problem file's cloud paths are relative to (default: its folder)");
   ppcr_tools::add_registration_flags(app, &a->flags);
@@ -109,6 +117,15 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_option("--method", a->method_name, method_help + " (default ppcr)");
   app.add_option("--limit", a->limit, "run only the first N problems");
   app.add_option("--out", a->out_csv, "write one CSV row per problem");
+  app.add_option("--shard", a->shard_text,
+                 "I/N: run only the problems i (0-based, in file order) with i mod N = I; merge "
+                 "the N shards' --out CSVs with --merge")
+      ->type_name("I/N");
+  app.add_option("--merge", a->merge,
+                 "CSV...: instead of running, merge the --out CSVs of the shards of one run and "
+                 "print its summary (--json), and write the whole run's CSV with --out")
+      ->expected(1, 1 << 20)
+      ->type_name("CSV...");
   app.add_flag("--json", a->json, "print the summary as one JSON object");
   app.add_option("--trace-dir", a->trace_dir,
                  "ppcr: write DIR/<id>.csv, one row per outer iteration, with the MSE and "
@@ -128,12 +145,26 @@ void add_arguments(CLI::App& app, Arguments* a) {
                  "success bound on the rotation error, degrees (default 1)");
 }
 
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "ppcr_bench: error: %s (see --help)\n", message.c_str());
+  return 2;
+}
+
+// With --merge only the output flags apply: the shards' CSVs carry the run's settings.
+int check_merge_flags(const CLI::App& app) {
+  for (const CLI::Option* o : app.get_options()) {
+    const std::string name = ppcr_bench::flag_name(*o);
+    if (o->count() > 0 && name != "--merge" && name != "--json" && name != "--out" &&
+        name != "--quiet") {
+      return usage_error("--merge takes the shards' CSVs, --out, --json and --quiet only, got " +
+                         name + " (the shards' CSVs carry the run's settings)");
+    }
+  }
+  return -1;
+}
+
 // Parses argv into *a and *options; returns -1 to go on, or the exit status.
-int parse(int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* options) {
-  CLI::App app{
-      "Runs the point clouds registration benchmark protocol on a problem file and "
-      "prints the error quantiles, success rate, iterations and time.",
-      "ppcr_bench"};
+int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* options) {
   app.set_version_flag("--version", std::string("ppcr_bench ") + PPCR_VERSION_STRING);
   add_arguments(app, a);
   try {
@@ -143,8 +174,13 @@ int parse(int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* option
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "ppcr_bench: error: %s (see --help)\n", e.what());
-    return 2;
+    return usage_error(e.what());
+  }
+  if (!a->merge.empty()) return check_merge_flags(app);
+  if (a->problems_path.empty()) return usage_error("PROBLEMS is required (or --merge CSV...)");
+  if (!a->shard_text.empty()) {
+    const ppcr::Status s = ppcr_bench::parse_shard(a->shard_text, &a->shard);
+    if (!s.ok()) return usage_error(s.message());
   }
   const ppcr::Status s = ppcr_tools::to_options(a->flags, options);
   if (!s.ok()) {
@@ -184,15 +220,9 @@ std::unique_ptr<ppcr_bench::Method> make_method(const Arguments& a,
 
 // One problem: S = T0 P, filtered like the target; the method's registration call alone is
 // timed; the errors are evaluated afterwards on the full-resolution S.
-struct Run {
-  ppcr_bench::ProblemOutcome outcome;
-  ppcr_bench::MethodResult result;
-  std::size_t source_points = 0, target_points = 0;
-};
-
 ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a,
                          const ppcr::RegistrationOptions& options, CloudCache* cache,
-                         ppcr_bench::Method* method, Run* run) {
+                         ppcr_bench::Method* method, ppcr_bench::ProblemRow* run) {
   const ppcr::PointCloud *P = nullptr, *target = nullptr;
   ppcr::Status s = cache->raw(p.source, &P);
   if (s.ok()) s = cache->filtered_target(p.target, &target);
@@ -225,30 +255,73 @@ ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a,
   return ppcr::Status::Ok();
 }
 
-void print_summary(const Arguments& a, const std::string& label, const ppcr_bench::Summary& sum,
-                   std::size_t failures) {
-  if (a.json) {
-    nlohmann::ordered_json j;
-    j["method"] = label;
-    j["problems"] = sum.problems;
-    j["median"] = sum.median;
-    j["q75"] = sum.q75;
-    j["q95"] = sum.q95;
-    j["success"] = sum.success;
-    j["mean_iterations"] = sum.mean_iterations;
-    j["median_ms"] = sum.median_ms;
-    j["max_ms"] = sum.max_ms;
-    j["failures"] = failures;
-    std::printf("%s\n", j.dump().c_str());
-    return;
+int merge(const Arguments& a) {
+  ppcr_bench::MergedRun m;
+  ppcr::Status s = ppcr_bench::merge_shards(a.merge, &m);
+  if (s.ok() && !a.out_csv.empty()) s = ppcr_bench::write_merged_csv(a.out_csv, m);
+  if (!s.ok()) return fail(s.message());
+  const ppcr_bench::RunInfo& r = m.run;
+  ppcr_bench::print_summary(
+      ppcr_bench::summarize(m.outcomes, r.success_rotation_deg, r.success_translation),
+      {r.label, m.failures, r.success_rotation_deg, r.success_translation, a.json});
+  return 0;
+}
+
+// The problems, after --limit; errors name the file and line.
+ppcr::Status load_problems(Arguments* a, std::vector<ppcr_bench::Problem>* problems) {
+  const ppcr::Status s = ppcr_bench::read_problems(a->problems_path, problems);
+  if (!s.ok()) return s;
+  if (a->limit > 0 && static_cast<std::size_t>(a->limit) < problems->size()) {
+    problems->resize(a->limit);
   }
-  std::printf("method %s, %zu problems (%zu failed to run)\n", label.c_str(), sum.problems,
-              failures);
-  std::printf("error median %.6g  q0.75 %.6g  q0.95 %.6g\n", sum.median, sum.q75, sum.q95);
-  std::printf("success %.1f %% (rotation < %g deg, translation < %g)\n", 100.0 * sum.success,
-              a.success_rotation, a.success_translation);
-  std::printf("mean iterations %.2f  time median %.1f ms  max %.1f ms\n", sum.mean_iterations,
-              sum.median_ms, sum.max_ms);
+  if (a->data_root.empty()) a->data_root = folder_of(a->problems_path);
+  return ppcr::Status::Ok();
+}
+
+// Runs this shard's problems (every problem without --shard), writes --out, prints the summary.
+int run(const CLI::App& app, Arguments a, const ppcr::RegistrationOptions& options) {
+  std::vector<ppcr_bench::Problem> problems;
+  ppcr::Status s = load_problems(&a, &problems);
+  if (!s.ok()) return fail(s.message());
+  std::unique_ptr<ppcr_bench::Method> method = make_method(a, options);
+  if (!method) {
+    std::string names;
+    for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
+    return fail("--method " + a.method_name + ": unknown or not built (available:" + names + ")");
+  }
+  const ppcr_bench::RunInfo info{a.label.empty() ? method->name() : a.label,
+                                 ppcr_bench::run_settings(app, problems), problems.size(),
+                                 a.success_rotation, a.success_translation};
+  std::FILE* csv = nullptr;
+  if (!a.out_csv.empty()) {
+    csv = std::fopen(a.out_csv.c_str(), "w");
+    if (csv == nullptr) return fail(a.out_csv + ": cannot open for writing");
+    std::fprintf(csv, "%s\n", ppcr_bench::csv_header().c_str());
+  }
+  std::vector<std::size_t> mine;  // this shard's problems
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    if (a.shard.has(i)) mine.push_back(i);
+  }
+  const bool bar = !a.quiet && isatty(fileno(stderr));
+  CloudCache cache(a.data_root, options.target_voxel);
+  std::vector<ppcr_bench::ProblemOutcome> outcomes;
+  std::size_t failures = 0;
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    ppcr_bench::ProblemRow row;
+    row.index = mine[k];
+    row.id = problems[row.index].id;
+    s = run_problem(problems[row.index], a, options, &cache, method.get(), &row);
+    if (!s.ok()) return fail("problem " + row.id + ": " + s.message());
+    outcomes.push_back(row.outcome);
+    if (!row.result.ok) ++failures;
+    if (csv != nullptr) std::fputs(ppcr_bench::format_row(info, row).c_str(), csv);
+    if (bar) progress(k + 1, mine.size(), row.outcome.error);
+  }
+  if (csv != nullptr && std::fclose(csv) != 0) return fail(a.out_csv + ": write failed");
+  ppcr_bench::print_summary(
+      ppcr_bench::summarize(outcomes, a.success_rotation, a.success_translation),
+      {info.label, failures, a.success_rotation, a.success_translation, a.json});
+  return 0;
 }
 
 }  // namespace
@@ -256,63 +329,11 @@ void print_summary(const Arguments& a, const std::string& label, const ppcr_benc
 int main(int argc, char** argv) {
   Arguments a;
   ppcr::RegistrationOptions options;
-  const int parsed = parse(argc, argv, &a, &options);
+  CLI::App app{
+      "Runs the point clouds registration benchmark protocol on a problem file and "
+      "prints the error quantiles, success rate, iterations and time.",
+      "ppcr_bench"};
+  const int parsed = parse(app, argc, argv, &a, &options);
   if (parsed >= 0) return parsed;
-  std::vector<ppcr_bench::Problem> problems;
-  ppcr::Status s = ppcr_bench::read_problems(a.problems_path, &problems);
-  if (!s.ok()) return fail(s.message());
-  if (a.limit > 0 && static_cast<std::size_t>(a.limit) < problems.size()) problems.resize(a.limit);
-  if (a.data_root.empty()) a.data_root = folder_of(a.problems_path);
-  std::unique_ptr<ppcr_bench::Method> method = make_method(a, options);
-  if (!method) {
-    std::string names;
-    for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
-    return fail("--method " + a.method_name + ": unknown or not built (available:" + names + ")");
-  }
-  const std::string label = a.label.empty() ? method->name() : a.label;
-  std::FILE* csv = nullptr;
-  if (!a.out_csv.empty()) {
-    csv = std::fopen(a.out_csv.c_str(), "w");
-    if (csv == nullptr) return fail(a.out_csv + ": cannot open for writing");
-    std::fprintf(csv,
-                 "id,method,error,rotation_error_deg,translation_error,iterations,"
-                 "stop_reason,converged,ok,time_ms,source_points,target_points,success,fitness,"
-                 "inlier_rmse,overlap,close_fraction,scale,target_surface_noise,target_spacing,"
-                 "degenerate_directions,quality,"
-                 "quality_ms,radius\n");
-  }
-  const bool bar = !a.quiet && isatty(fileno(stderr));
-  CloudCache cache(a.data_root, options.target_voxel);
-  std::vector<ppcr_bench::ProblemOutcome> outcomes;
-  std::size_t failures = 0;
-  for (std::size_t i = 0; i < problems.size(); ++i) {
-    const ppcr_bench::Problem& p = problems[i];
-    Run run;
-    s = run_problem(p, a, options, &cache, method.get(), &run);
-    if (!s.ok()) return fail("problem " + p.id + ": " + s.message());
-    const ppcr_bench::ProblemOutcome& o = run.outcome;
-    outcomes.push_back(o);
-    if (!run.result.ok) ++failures;
-    if (csv != nullptr) {
-      const ppcr_bench::MethodResult& r = run.result;
-      const bool success = o.rotation_error_deg < a.success_rotation &&
-                           o.translation_error < a.success_translation;  // summarize()'s rule
-      std::fprintf(csv,
-                   "%s,%s,%.9g,%.6g,%.6g,%d,%s,%d,%d,%.3f,%zu,%zu,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
-                   "%.6g,%d,%s,"
-                   "%.3f,%.9g\n",
-                   p.id.c_str(), label.c_str(), o.error, o.rotation_error_deg, o.translation_error,
-                   o.iterations, r.stop_reason.c_str(), r.converged ? 1 : 0, r.ok ? 1 : 0,
-                   o.time_ms, run.source_points, run.target_points, success ? 1 : 0, r.fitness,
-                   r.inlier_rmse, r.overlap, r.close_fraction, r.scale, r.target_surface_noise,
-                   r.target_spacing, r.degenerate_directions, r.quality.c_str(), r.quality_ms,
-                   r.radius);
-    }
-    if (bar) progress(i + 1, problems.size(), o.error);
-  }
-  if (csv != nullptr && std::fclose(csv) != 0) return fail(a.out_csv + ": write failed");
-  print_summary(a, label,
-                ppcr_bench::summarize(outcomes, a.success_rotation, a.success_translation),
-                failures);
-  return 0;
+  return a.merge.empty() ? run(app, a, options) : merge(a);
 }

@@ -1,9 +1,11 @@
-// summary.cpp - quantiles (numpy's linear interpolation) and the run summary.
+// summary.cpp - quantiles (numpy's linear interpolation), the run summary and its printing.
 #include "bench/summary.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 namespace ppcr_bench {
 
@@ -41,6 +43,31 @@ Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_ro
   s.median_ms = quantile(times, 0.5);
   s.max_ms = *std::max_element(times.begin(), times.end());
   return s;
+}
+
+void print_summary(const Summary& sum, const SummaryContext& c) {
+  if (c.json) {
+    nlohmann::ordered_json j;
+    j["method"] = c.label;
+    j["problems"] = sum.problems;
+    j["median"] = sum.median;
+    j["q75"] = sum.q75;
+    j["q95"] = sum.q95;
+    j["success"] = sum.success;
+    j["mean_iterations"] = sum.mean_iterations;
+    j["median_ms"] = sum.median_ms;
+    j["max_ms"] = sum.max_ms;
+    j["failures"] = c.failures;
+    std::printf("%s\n", j.dump().c_str());
+    return;
+  }
+  std::printf("method %s, %zu problems (%zu failed to run)\n", c.label.c_str(), sum.problems,
+              c.failures);
+  std::printf("error median %.6g  q0.75 %.6g  q0.95 %.6g\n", sum.median, sum.q75, sum.q95);
+  std::printf("success %.1f %% (rotation < %g deg, translation < %g)\n", 100.0 * sum.success,
+              c.success_rotation_deg, c.success_translation);
+  std::printf("mean iterations %.2f  time median %.1f ms  max %.1f ms\n", sum.mean_iterations,
+              sum.median_ms, sum.max_ms);
 }
 
 }  // namespace ppcr_bench

@@ -1,7 +1,8 @@
-// summary.hpp - quantiles and the summary of a benchmark run.
+// summary.hpp - quantiles and the summary of a benchmark run, and its printing.
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace ppcr_bench {
@@ -29,5 +30,16 @@ struct ProblemOutcome {
 /// success: rotation error < success_rotation_deg and translation error < success_translation.
 Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_rotation_deg,
                   double success_translation);
+
+/// What the printed summary says besides the figures.
+struct SummaryContext {
+  std::string label;         // the method, or --label
+  std::size_t failures = 0;  // problems the method failed to run
+  double success_rotation_deg = 1.0, success_translation = 0.0;
+  bool json = false;  // one JSON object instead of the text lines
+};
+
+/// Prints the run's summary on stdout: the only printer, for a run and for a merge of shards.
+void print_summary(const Summary& summary, const SummaryContext& context);
 
 }  // namespace ppcr_bench
