@@ -25,6 +25,8 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
@@ -166,6 +168,50 @@ struct SurfaceSampleOptions {
 /// another solid primitive (e.g. the floor under a box) are discarded and redrawn. Deterministic.
 /// Fails with kInvalidArgument for a count out of range.
 Status sample_surface(const SurfaceSampleOptions& options, PointCloud* out);
+
+/// A sequence: one sensor swept along a smooth path through the room or the street, scanning at
+/// a fixed rate, with the exact pose of every scan (issue #40). The path, the speed profile and
+/// the sensor's sway are drawn from the seed:
+///  - room: a closed ellipse (semi-axes 1.4 m and 1.2 m, about the room's free middle, driven
+///    clockwise or anticlockwise), walked at a speed of speed_mps +-25 % (a sine of period 8 s)
+///    by a handheld sensor 1.3 m above the floor that bobs +-3 cm (1.8 Hz), rolls and pitches
+///    +-2 degrees and yaws +-3 degrees about the path's heading (slow sines);
+///  - street: along the road in either direction, weaving across it (+-1.5 m, a sine of period
+///    40 m), at speed_mps +-25 % (period 12 s), 1.8 m above the ground, rolling and pitching
+///    +-0.5 degrees. The road gives at most 140 m of path: longer sequences are refused.
+/// The sensor's x axis is the direction of travel (plus the yaw sway), z is up (plus the sway).
+struct SequenceOptions {
+  SceneKind scene = SceneKind::kRoom;  // kRoom or kStreet
+  /// Seeds the layout (the same scene as make_scan_pair with this seed), the path, the noise and
+  /// the outliers, each from its own stream; scan i's noise does not depend on the other scans.
+  std::uint64_t seed = 1;
+  SensorModel sensor;
+  double noise_sigma = 0.0;         // as ScanOptions::noise_sigma
+  double noise_per_metre = 0.0;     // as ScanOptions::noise_per_metre
+  double depth_quantisation = 0.0;  // as ScanOptions::depth_quantisation
+  double outlier_fraction = 0.0;    // as ScanOptions::outlier_fraction
+  std::size_t scans = 200;          // [2, 1000000]
+  double rate_hz = 10.0;            // scans per second, (0, 1000]: scan i is taken at i / rate_hz
+  /// Mean speed along the path, m/s, (0, 50]; 0 = the scene's: 1 (room, walking), 6 (street).
+  double speed_mps = 0.0;
+};
+
+/// The scene's default mean speed for a sequence, m/s (see SequenceOptions::speed_mps).
+double default_speed_mps(SceneKind kind);
+
+/// The sensor's pose in the scene (world) frame at each scan of the sequence, scan i at time
+/// i / rate_hz. Fails with kInvalidArgument naming the option (e.g. "SequenceOptions.scans").
+Status make_sequence_trajectory(const SequenceOptions& options,
+                                std::vector<Eigen::Isometry3d>* T_world_sensor);
+
+/// Receives scan `index` (in the sensor's frame; surface returns first, then outliers) and its
+/// exact pose; a non-ok Status stops the sequence and is returned by make_scan_sequence.
+using ScanSink = std::function<Status(std::size_t index, const Eigen::Isometry3d& T_world_sensor,
+                                      const PointCloud& scan)>;
+
+/// Builds the scene once and scans it from every pose of make_sequence_trajectory, in order,
+/// handing each scan to sink (one scan in memory at a time). Deterministic.
+Status make_scan_sequence(const SequenceOptions& options, const ScanSink& sink);
 
 }  // namespace synthetic
 }  // namespace PPCR_ABI_NAMESPACE

@@ -28,6 +28,9 @@ enum class Stream : std::uint64_t {
   kSourceOutliers = 5,
   kTargetOutliers = 6,
   kSurfaceSamples = 7,
+  kTrajectory = 8,        // a sequence's path: its start, direction and sway phases
+  kSequenceNoise = 9,     // a sequence's range noise, one sub-stream per scan
+  kSequenceOutliers = 10  // a sequence's outliers, one sub-stream per scan
 };
 
 /// SplitMix64 finaliser (Steele, Lea and Flood 2014): a bijective mixing of 64 bits.
@@ -45,6 +48,10 @@ inline std::uint64_t stream_seed(std::uint64_t seed, Stream stream) {
 class Rng {
  public:
   Rng(std::uint64_t seed, Stream stream) : engine_(stream_seed(seed, stream)) {}
+  /// Sub-stream `index` of a stream (scan `index` of a sequence): independent of the others, so
+  /// a scan's numbers do not depend on how many scans came before it.
+  Rng(std::uint64_t seed, Stream stream, std::uint64_t index)
+      : engine_(splitmix64(stream_seed(seed, stream) ^ splitmix64(index))) {}
 
   /// Uniform in [0, 1): the top 53 bits of one 64-bit draw.
   double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }

@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "option_checks.hpp"
+#include "outliers.hpp"
 #include "ppcr/synthetic.hpp"
 #include "random.hpp"
 #include "scanner.hpp"
@@ -16,6 +18,7 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace synthetic {
 namespace {
 
+using internal::invalid;
 using internal::Rng;
 using internal::Stream;
 
@@ -23,84 +26,6 @@ constexpr double kDegree = Rng::kPi / 180.0;
 constexpr double kMaxRotationAxisTilt = 10.0 * kDegree;  // from the vertical
 constexpr double kMaxTranslationElevation = 3.0 * kDegree;
 constexpr double kStreetAzimuthSpread = 5.0 * kDegree;  // about the road's direction
-constexpr double kMaxOutlierFraction = 0.95;
-constexpr long long kMaxRays = 1LL << 22;  // beams * horizontal_steps (4194304)
-
-/// Integers as integers (36864000, not 3.6864e+07); other values with 6 significant digits.
-std::string number(double value) {
-  std::ostringstream text;
-  if (std::abs(value) < 1e15 && value == std::floor(value)) {
-    text << static_cast<long long>(value);
-  } else {
-    text << value;
-  }
-  return text.str();
-}
-
-Status invalid(const std::string& name, double value, const std::string& requirement) {
-  std::ostringstream message;
-  message << name << " = " << number(value) << ": " << requirement;
-  return Status(StatusCode::kInvalidArgument, message.str());
-}
-
-Status check_sensor(const SensorModel& s) {
-  const std::string p = "ScanOptions.sensor.";
-  if (s.beams < 1 || s.beams > 1024) return invalid(p + "beams", s.beams, "must be in [1, 1024]");
-  if (s.horizontal_steps < 1 || s.horizontal_steps > 36000) {
-    return invalid(p + "horizontal_steps", s.horizontal_steps, "must be in [1, 36000]");
-  }
-  if (static_cast<long long>(s.beams) * s.horizontal_steps > kMaxRays) {
-    return invalid(p + "beams * horizontal_steps",
-                   static_cast<double>(s.beams) * s.horizontal_steps,
-                   "must be at most 4194304 rays per scan");
-  }
-  if (!(std::abs(s.fov_up_deg) <= 90.0)) {
-    return invalid(p + "fov_up_deg", s.fov_up_deg, "must be in [-90, 90] degrees");
-  }
-  if (!(std::abs(s.fov_down_deg) <= 90.0)) {
-    return invalid(p + "fov_down_deg", s.fov_down_deg, "must be in [-90, 90] degrees");
-  }
-  if (s.beams > 1 && !(s.fov_down_deg < s.fov_up_deg)) {
-    return invalid(p + "fov_down_deg", s.fov_down_deg,
-                   "must be below fov_up_deg = " + number(s.fov_up_deg));
-  }
-  if (s.beams == 1 && !(s.fov_down_deg <= s.fov_up_deg)) {
-    return invalid(p + "fov_down_deg", s.fov_down_deg,
-                   "must not exceed fov_up_deg = " + number(s.fov_up_deg));
-  }
-  if (!(s.min_range >= 0.0 && std::isfinite(s.min_range))) {
-    return invalid(p + "min_range", s.min_range, "must be finite and >= 0 (metres)");
-  }
-  if (!(s.max_range > s.min_range && s.max_range <= 10000.0)) {
-    return invalid(
-        p + "max_range", s.max_range,
-        "must be above min_range = " + number(s.min_range) + " and at most 10000 (metres)");
-  }
-  if (s.projection != Projection::kSpinning && s.projection != Projection::kPinhole) {
-    return invalid(p + "projection", static_cast<int>(s.projection),
-                   "must be Projection::kSpinning or Projection::kPinhole");
-  }
-  if (s.projection == Projection::kSpinning) {
-    if (!(s.horizontal_fov_deg > 0.0 && s.horizontal_fov_deg <= 360.0)) {
-      return invalid(p + "horizontal_fov_deg", s.horizontal_fov_deg,
-                     "must be in (0, 360] degrees for a spinning sensor");
-    }
-    return Status::Ok();
-  }
-  if (!(s.horizontal_fov_deg > 0.0 && s.horizontal_fov_deg < 180.0)) {
-    return invalid(p + "horizontal_fov_deg", s.horizontal_fov_deg,
-                   "must be in (0, 180) degrees for a depth camera (Projection::kPinhole)");
-  }
-  if (!(std::abs(s.fov_up_deg) < 90.0)) {
-    return invalid(p + "fov_up_deg", s.fov_up_deg,
-                   "must be in (-90, 90) degrees for a depth camera (Projection::kPinhole)");
-  }
-  if (!(std::abs(s.fov_down_deg) < 90.0)) {
-    return invalid(p + "fov_down_deg", s.fov_down_deg,
-                   "must be in (-90, 90) degrees for a depth camera (Projection::kPinhole)");
-  }
-  return Status::Ok();
-}
 
 Status check_options(const ScanOptions& o) {
   if (o.scene != SceneKind::kRoom && o.scene != SceneKind::kStreet &&
@@ -108,21 +33,8 @@ Status check_options(const ScanOptions& o) {
     return invalid("ScanOptions.scene", static_cast<int>(o.scene),
                    "must be SceneKind::kRoom, kStreet or kObjects");
   }
-  Status status = check_sensor(o.sensor);
+  const Status status = internal::check_sensor_and_measurement(o, "ScanOptions.");
   if (!status.ok()) return status;
-  if (!(o.noise_sigma >= 0.0 && std::isfinite(o.noise_sigma))) {
-    return invalid("ScanOptions.noise_sigma", o.noise_sigma, "must be finite and >= 0 (metres)");
-  }
-  if (!(o.noise_per_metre >= 0.0 && o.noise_per_metre <= 1.0)) {
-    return invalid("ScanOptions.noise_per_metre", o.noise_per_metre, "must be in [0, 1]");
-  }
-  if (!(o.depth_quantisation >= 0.0 && o.depth_quantisation <= 1000.0)) {
-    return invalid("ScanOptions.depth_quantisation", o.depth_quantisation,
-                   "must be in [0, 1000] (1/metres)");
-  }
-  if (!(o.outlier_fraction >= 0.0 && o.outlier_fraction <= kMaxOutlierFraction)) {
-    return invalid("ScanOptions.outlier_fraction", o.outlier_fraction, "must be in [0, 0.95]");
-  }
   if (!(o.rotation_deg >= 0.0 && o.rotation_deg <= 180.0)) {
     return invalid("ScanOptions.rotation_deg", o.rotation_deg, "must be in [0, 180] degrees");
   }
@@ -187,30 +99,6 @@ void make_poses(const internal::Scene& scene, const ScanOptions& options, ScanPa
   pair->T_world_source = world_T_target * target_T_source;
 }
 
-// Appends round(n f / (1 - f)) points drawn uniformly in the part of the scene's bounds within
-// max_range (per axis) of the sensor, expressed in the sensor frame.
-void add_outliers(const internal::Scene& scene, const ScanOptions& options,
-                  const Eigen::Isometry3d& world_T_sensor, Rng* rng, PointCloud* cloud) {
-  const double fraction = options.outlier_fraction;
-  if (fraction <= 0.0) return;
-  const auto count = static_cast<std::size_t>(
-      std::llround(static_cast<double>(cloud->size()) * fraction / (1.0 - fraction)));
-  const Eigen::Vector3d position = world_T_sensor.translation();
-  const Eigen::Vector3d reach = Eigen::Vector3d::Constant(options.sensor.max_range);
-  Eigen::AlignedBox3d region =
-      scene.bounds.intersection(Eigen::AlignedBox3d(position - reach, position + reach));
-  if (region.isEmpty()) region = scene.bounds;
-  const Eigen::Isometry3d sensor_T_world = world_T_sensor.inverse(Eigen::Isometry);
-  cloud->reserve(cloud->size() + count);
-  for (std::size_t i = 0; i < count; ++i) {
-    Eigen::Vector3d p;
-    for (int axis = 0; axis < 3; ++axis) {
-      p[axis] = rng->uniform(region.min()[axis], region.max()[axis]);
-    }
-    cloud->push_back(sensor_T_world * p);
-  }
-}
-
 }  // namespace
 
 SensorModel depth_camera(int columns, int rows, double max_range) {
@@ -249,9 +137,11 @@ Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
     pair.target_returns = pair.target.size();
 
     Rng source_outliers(options.seed, Stream::kSourceOutliers);
-    add_outliers(scene, options, pair.T_world_source, &source_outliers, &pair.source);
+    internal::add_outliers(scene, options.outlier_fraction, options.sensor.max_range,
+                           pair.T_world_source, &source_outliers, &pair.source);
     Rng target_outliers(options.seed, Stream::kTargetOutliers);
-    add_outliers(scene, options, pair.T_world_target, &target_outliers, &pair.target);
+    internal::add_outliers(scene, options.outlier_fraction, options.sensor.max_range,
+                           pair.T_world_target, &target_outliers, &pair.target);
     *out = std::move(pair);
   } catch (const std::exception& e) {  // std::bad_alloc: the clouds do not fit in memory
     return Status(StatusCode::kInvalidArgument,

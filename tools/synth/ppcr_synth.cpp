@@ -8,6 +8,8 @@
 //              [--fov-up DEG] [--fov-down DEG] [--hfov DEG] [--min-range M] [--max-range M]
 //              [--problems N] [--min-problem-rotation DEG] [--max-problem-rotation DEG]
 //              [--max-problem-translation M]
+//   ppcr_synth OUT_DIR --sequence N [--scene room|street] [--rate HZ] [--speed M/S] [--seed N]
+//              [the noise, outlier and sensor flags above]
 //
 // --sensor camera starts from ppcr::synthetic::depth_camera() (320 x 240 pixels, 58 x 45 degrees,
 // 0.4 to 4.5 m); --beams (rows), --steps (columns), --fov-*, --hfov and --*-range override it.
@@ -21,6 +23,11 @@
 //   problems.txt         benchmark problems `id source target overlap t1 ... t12` on
 //                        source_gt_frame.ply / target.ply (paths relative to OUT_DIR), each with a
 //                        random initial misplacement T0 (see --problems)
+// With --sequence N, a sensor swept along a smooth path through the room or the street (see
+// ppcr::synthetic::SequenceOptions) takes N scans at --rate; OUT_DIR gets instead:
+//   scans/scan_000000.ply ...  the scans, each in its sensor's frame (natural order = scan order)
+//   ground_truth_kitti.txt     the exact pose of every scan in the first scan's frame, 3x4 a line
+//   ground_truth_tum.txt       the same as "t x y z qx qy qz qw", t = index / rate
 // Exit 0 on success; 2 with a one-line error on stderr for a bad argument; 1 when a file cannot
 // be written.
 #include <CLI/CLI.hpp>
@@ -41,6 +48,7 @@
 #include "overlap.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/synthetic.hpp"
+#include "sequence_output.hpp"
 
 namespace {
 
@@ -49,6 +57,19 @@ constexpr double kPi = 3.14159265358979323846;
 int fail(int code, const std::string& message) {
   std::fprintf(stderr, "ppcr_synth: error: %s\n", message.c_str());
   return code;
+}
+
+/// Replaces every (field, flag) pair's field in message by the flag, in the table's order.
+template <std::size_t N>
+std::string rename(std::string message, const std::pair<const char*, const char*> (&table)[N]) {
+  for (const auto& [field, flag] : table) {
+    const std::string name(field);
+    for (std::size_t at = message.find(name); at != std::string::npos;
+         at = message.find(name, at + std::string(flag).size())) {
+      message.replace(at, name.size(), flag);
+    }
+  }
+  return message;
 }
 
 /// The library names ScanOptions fields in its messages; say which flags they come from.
@@ -71,14 +92,7 @@ std::string with_flag_names(std::string message) {
       {"fov_up_deg", "--fov-up"},  // in the requirement part ("must be below fov_up_deg = 15")
       {"min_range", "--min-range"},
   };
-  for (const auto& [field, flag] : kFlags) {
-    const std::string name(field);
-    for (std::size_t at = message.find(name); at != std::string::npos;
-         at = message.find(name, at + std::string(flag).size())) {
-      message.replace(at, name.size(), flag);
-    }
-  }
-  return message;
+  return rename(message, kFlags);
 }
 
 /// Uniform doubles from std::mt19937_64 (53 bits), as the library does: the same numbers with
@@ -124,6 +138,9 @@ struct CommandLine {
   std::string scene = "room";
   std::string sensor = "lidar";
   int problems = 10;
+  std::size_t sequence = 0;  // --sequence: scans of a sequence (0: a pair)
+  double rate = 10.0;
+  double speed = 0.0;
   double min_problem_rotation = 0.0;
   double max_problem_rotation = 30.0;
   double max_problem_translation = 1.0;
@@ -233,6 +250,20 @@ void add_problem_options(CLI::App* app, CommandLine* line) {
       ->capture_default_str();
 }
 
+/// The flags of a sequence (--sequence, --rate, --speed).
+void add_sequence_options(CLI::App* app, CommandLine* line) {
+  app->add_option("--sequence", line->sequence,
+                  "write a sequence of this many scans along a path (room or street) instead of "
+                  "a pair: scans/scan_NNNNNN.ply, ground_truth_kitti.txt, ground_truth_tum.txt")
+      ->check(CLI::Range(2, 1000000));
+  app->add_option("--rate", line->rate, "--sequence: scans per second")
+      ->check(CLI::Range(1e-3, 1000.0))
+      ->capture_default_str();
+  app->add_option("--speed", line->speed,
+                  "--sequence: mean speed along the path, m/s (default: room 1, street 6)")
+      ->check(CLI::Range(0.0, 50.0));
+}
+
 /// The library's ScanOptions from the parsed flags: the scene, the objects scene's default
 /// translation, and the --sensor preset overridden by the sensor flags given (the lidar preset
 /// is the flags' defaults, so it takes them all).
@@ -258,6 +289,54 @@ ppcr::synthetic::ScanOptions scan_options(const CommandLine& line) {
   if (lidar || line.min_range->count() > 0) options.sensor.min_range = given.min_range;
   if (lidar || line.max_range->count() > 0) options.sensor.max_range = given.max_range;
   return options;
+}
+
+/// The library names SequenceOptions fields in its messages: the sequence's own with their
+/// flags, the others as with_flag_names does for ScanOptions.
+std::string sequence_flag_names(std::string message) {
+  static const std::pair<const char*, const char*> kFlags[] = {
+      {"SequenceOptions.scans", "--sequence"},
+      {"SequenceOptions.speed_mps", "--speed"},
+      {"SequenceOptions.rate_hz", "--rate"},
+      {"SequenceOptions.scene", "--scene"},
+      {"speed_mps", "--speed"},
+      {"rate_hz", "--rate"},
+      {"SequenceOptions.", "ScanOptions."},
+  };
+  return with_flag_names(rename(message, kFlags));
+}
+
+/// --sequence: the sequence's options from the scan flags; writes it. Returns the exit code.
+int run_sequence(const CLI::App& app, const CommandLine& line) {
+  for (const char* flag : {"--rotation", "--translation", "--problems", "--min-problem-rotation",
+                           "--max-problem-rotation", "--max-problem-translation"}) {
+    if (app.get_option(flag)->count() > 0) {
+      return fail(2, std::string(flag) + " does not apply to --sequence (see --help)");
+    }
+  }
+  const ppcr::synthetic::ScanOptions scan = scan_options(line);
+  ppcr::synthetic::SequenceOptions options;
+  options.scene = scan.scene;
+  options.seed = scan.seed;
+  options.sensor = scan.sensor;
+  options.noise_sigma = scan.noise_sigma;
+  options.noise_per_metre = scan.noise_per_metre;
+  options.depth_quantisation = scan.depth_quantisation;
+  options.outlier_fraction = scan.outlier_fraction;
+  options.scans = line.sequence;
+  options.rate_hz = line.rate;
+  options.speed_mps = line.speed;
+  const ppcr::Status status = ppcr_synth::write_sequence(line.out_dir, options);
+  if (!status.ok()) {
+    const std::string message = sequence_flag_names(status.message());
+    return fail(status.code() == ppcr::StatusCode::kIoError ? 1 : 2, message);
+  }
+  std::printf(
+      "ppcr_synth: %s sequence, seed %llu: %zu scans at %g Hz in %s/scans, ground truth "
+      "in ground_truth_kitti.txt and ground_truth_tum.txt\n",
+      ppcr::synthetic::to_string(options.scene), static_cast<unsigned long long>(options.seed),
+      options.scans, options.rate_hz, line.out_dir.c_str());
+  return 0;
 }
 
 /// The overlap of the pair and how it was measured.
@@ -379,6 +458,7 @@ int main(int argc, char** argv) {
   add_scan_options(&app, &line);
   add_sensor_options(&app, &line);
   add_problem_options(&app, &line);
+  add_sequence_options(&app, &line);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -393,6 +473,8 @@ int main(int argc, char** argv) {
                        " exceeds --max-problem-rotation " +
                        std::to_string(line.max_problem_rotation));
   }
+
+  if (line.sequence > 0) return run_sequence(app, line);
 
   const ppcr::synthetic::ScanOptions options = scan_options(line);
   ppcr::synthetic::ScanPair pair;

@@ -1,0 +1,56 @@
+// Natural order of scan names, and folders listed in it (tools/odometry/natural_order, scan_list).
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "odometry/natural_order.hpp"
+#include "odometry/scan_list.hpp"
+
+using ppcr_odometry::natural_less;
+
+TEST_CASE("numbers in names compare by value") {
+  CHECK(natural_less("scan_2", "scan_10"));
+  CHECK(!natural_less("scan_10", "scan_2"));
+  CHECK(natural_less("scan_9.ply", "scan_10.ply"));
+  CHECK(natural_less("scan_000009.ply", "scan_000010.ply"));
+  CHECK(natural_less("a2b3", "a2b11"));
+  CHECK(natural_less("scan_99999999999999999999998", "scan_99999999999999999999999"));
+  CHECK(natural_less("b", "c"));
+  CHECK(natural_less("scan", "scan_1"));  // a prefix first
+}
+
+TEST_CASE("the order is strict: equal values differ by leading zeros, then bytes") {
+  CHECK(natural_less("scan_2", "scan_02"));
+  CHECK(!natural_less("scan_02", "scan_2"));
+  CHECK(!natural_less("scan_2", "scan_2"));
+  std::vector<std::string> names{"s_10", "s_2", "s_02", "s_1", "s_001", "s_20", "t", "s_3"};
+  std::sort(names.begin(), names.end(), natural_less);
+  CHECK(names ==
+        std::vector<std::string>{"s_1", "s_001", "s_2", "s_02", "s_3", "s_10", "s_20", "t"});
+}
+
+TEST_CASE("a folder lists its cloud files in natural order, files as given") {
+  const std::filesystem::path dir =
+      std::filesystem::path(PPCR_SEQUENCE_TEST_DIR) / "natural_order_folder";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const char* name :
+       {"scan_10.ply", "scan_2.PCD", "scan_1.ply", "notes.md", ".hidden.ply", "scan_11.xyz"}) {
+    std::ofstream(dir / name) << "x";
+  }
+  std::filesystem::create_directories(dir / "sub.ply");  // a folder, not a file
+  std::vector<std::string> scans;
+  REQUIRE(ppcr_odometry::list_scans({dir.string(), "extra.pcd"}, &scans).ok());
+  const std::vector<std::string> expected{
+      (dir / "scan_1.ply").string(), (dir / "scan_2.PCD").string(), (dir / "scan_10.ply").string(),
+      (dir / "scan_11.xyz").string(), "extra.pcd"};
+  CHECK(scans == expected);
+
+  const std::filesystem::path empty = dir / "empty";
+  std::filesystem::create_directories(empty);
+  const ppcr::Status s = ppcr_odometry::list_scans({empty.string()}, &scans);
+  CHECK(!s.ok());
+  CHECK(s.message().find(empty.string()) != std::string::npos);
+}

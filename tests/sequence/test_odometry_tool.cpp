@@ -1,0 +1,206 @@
+// ppcr_odometry (tools/odometry) on sequences from ppcr_synth --sequence: the trajectory it
+// writes is close to the exact ground truth, an unreadable scan stops it with a message naming
+// the scan and the poses of the scans before it on disk, folders are read in natural order.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "odometry/trajectory_format.hpp"
+#include "odometry/trajectory_metrics.hpp"
+#include "ppcr/synthetic.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kAteBound = 0.03;  // metres, on a 1.3-1.6 m room path with 1 cm noise
+
+// A fresh folder for one test case (ctest may run the cases in parallel).
+fs::path case_dir(const std::string& name) {
+  const fs::path dir = fs::path(PPCR_SEQUENCE_TEST_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+int run(const std::string& exe, const std::string& arguments, const fs::path& stderr_path) {
+  const std::string command = "'" + exe + "' " + arguments + " > '" + stderr_path.string() +
+                              ".out' 2> '" + stderr_path.string() + "'";
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+std::vector<std::string> lines_of(const fs::path& path) {
+  std::ifstream file(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  return lines;
+}
+
+// A room sequence of `scans` scans with 1 cm range noise in dir/seq (ppcr_synth --sequence).
+void make_sequence(const fs::path& dir, int scans) {
+  const std::string arguments = "'" + (dir / "seq").string() + "' --sequence " +
+                                std::to_string(scans) + " --noise 0.01 --seed 3";
+  REQUIRE(run(PPCR_SYNTH_EXE, arguments, dir / "synth.err") == 0);
+}
+
+ppcr_odometry::Trajectory read_trajectory(const fs::path& path) {
+  ppcr_odometry::Trajectory t;
+  const ppcr::Status s = ppcr_odometry::read_trajectory(path.string(), &t);
+  INFO(s.to_string());
+  REQUIRE(s.ok());
+  return t;
+}
+
+double ate(const ppcr_odometry::Trajectory& truth, const ppcr_odometry::Trajectory& estimate) {
+  ppcr_odometry::TrajectoryErrors errors;
+  REQUIRE(ppcr_odometry::trajectory_errors(truth.poses, estimate.poses, 1, &errors).ok());
+  return errors.ate_rmse;
+}
+
+}  // namespace
+
+TEST_CASE("the ground truth files hold the library's exact trajectory in the first scan's frame") {
+  const fs::path dir = case_dir("ground_truth");
+  make_sequence(dir, 12);
+  ppcr::synthetic::SequenceOptions options;
+  options.scans = 12;
+  options.seed = 3;
+  std::vector<Eigen::Isometry3d> world;
+  REQUIRE(ppcr::synthetic::make_sequence_trajectory(options, &world).ok());
+  const ppcr_odometry::Trajectory kitti = read_trajectory(dir / "seq/ground_truth_kitti.txt");
+  const ppcr_odometry::Trajectory tum = read_trajectory(dir / "seq/ground_truth_tum.txt");
+  REQUIRE(kitti.poses.size() == 12);
+  REQUIRE(tum.poses.size() == 12);
+  for (std::size_t i = 0; i < 12; ++i) {
+    const Eigen::Matrix4d expected = (world[0].inverse() * world[i]).matrix();
+    CHECK((kitti.poses[i].matrix() - expected).norm() < 1e-12);
+    CHECK((tum.poses[i].matrix() - expected).norm() < 1e-12);
+    CHECK(tum.times[i] == Approx(0.1 * static_cast<double>(i)));
+    CHECK(fs::exists(dir / "seq/scans" / ("scan_00000" + std::to_string(i % 10) + ".ply")));
+  }
+}
+
+TEST_CASE("a short room sequence registered scan to scan and to a local map tracks the truth") {
+  const fs::path dir = case_dir("track");
+  make_sequence(dir, 15);
+  const ppcr_odometry::Trajectory truth = read_trajectory(dir / "seq/ground_truth_kitti.txt");
+  for (const int local_map : {1, 3}) {
+    INFO("--local-map " << local_map);
+    const fs::path out = dir / ("map" + std::to_string(local_map));
+    const std::string arguments = "'" + (dir / "seq/scans").string() + "' --local-map " +
+                                  std::to_string(local_map) + " --kitti '" + out.string() +
+                                  ".kitti' --tum '" + out.string() + ".tum' --pairs '" +
+                                  out.string() + ".csv'";
+    REQUIRE(run(PPCR_ODOMETRY_EXE, arguments, out.string() + ".err") == 0);
+    CHECK(read_text(out.string() + ".err").find("scans/s") != std::string::npos);
+    const ppcr_odometry::Trajectory kitti = read_trajectory(out.string() + ".kitti");
+    const ppcr_odometry::Trajectory tum = read_trajectory(out.string() + ".tum");
+    REQUIRE(kitti.poses.size() == 15);
+    REQUIRE(tum.poses.size() == 15);
+    CHECK(ate(truth, kitti) < kAteBound);
+    CHECK(ate(truth, tum) < kAteBound);
+    const std::vector<std::string> rows = lines_of(out.string() + ".csv");
+    REQUIRE(rows.size() == 15);  // the header and one row per registered pair
+    CHECK(rows[0].rfind("scan,file,method,fitness,quality", 0) == 0);
+    CHECK(rows[1].find(",ppcr,") != std::string::npos);
+  }
+}
+
+TEST_CASE("the evaluation (--evaluate) prints the ATE and RPE of an estimate") {
+  const fs::path dir = case_dir("evaluate");
+  make_sequence(dir, 6);
+  const std::string truth = (dir / "seq/ground_truth_kitti.txt").string();
+  const std::string tum = (dir / "seq/ground_truth_tum.txt").string();
+  REQUIRE(run(PPCR_ODOMETRY_EXE, "--evaluate '" + truth + "' '" + tum + "'", dir / "eval.err") ==
+          0);
+  const std::string printed = read_text(dir / "eval.err.out");
+  CHECK(printed.rfind("poses 6 ate_rmse ", 0) == 0);
+  std::istringstream fields(printed.substr(std::string("poses 6 ate_rmse ").size()));
+  double ate_value = -1.0;
+  fields >> ate_value;
+  CHECK(ate_value < 1e-9);  // the same trajectory in two formats
+  CHECK(run(PPCR_ODOMETRY_EXE, "--evaluate '" + truth + "'", dir / "one.err") == 2);
+}
+
+TEST_CASE("an unreadable scan stops the sequence naming it, with the poses before it on disk") {
+  const fs::path dir = case_dir("unreadable");
+  make_sequence(dir, 8);
+  std::ofstream(dir / "seq/scans/scan_000004.ply") << "ply\nformat ascii 1.0\nend_header\ngarbage";
+  const fs::path out = dir / "out";
+  const std::string arguments = "'" + (dir / "seq/scans").string() + "' --kitti '" + out.string() +
+                                ".kitti' --tum '" + out.string() + ".tum' --pairs '" +
+                                out.string() + ".csv'";
+  CHECK(run(PPCR_ODOMETRY_EXE, arguments, out.string() + ".err") == 1);
+  const std::string message = read_text(out.string() + ".err");
+  CHECK(message.find("error: scan 4 (") != std::string::npos);
+  CHECK(message.find("scan_000004.ply") != std::string::npos);
+  // Scans 0-3 have their poses, each a complete line: 12 (KITTI) or 8 (TUM) numbers.
+  for (const auto& [extension, numbers] :
+       {std::pair<std::string, std::size_t>{".kitti", 12}, {".tum", 8}}) {
+    const std::string text = read_text(out.string() + extension);
+    REQUIRE(!text.empty());
+    CHECK(text.back() == '\n');
+    const std::vector<std::string> lines = lines_of(out.string() + extension);
+    CHECK(lines.size() == 4);
+    for (const std::string& line : lines) {
+      std::istringstream fields(line);
+      std::size_t count = 0;
+      for (double v; fields >> v;) ++count;
+      CHECK(count == numbers);
+    }
+    CHECK(read_trajectory(out.string() + extension).poses.size() == 4);
+  }
+  CHECK(lines_of(out.string() + ".csv").size() == 4);  // header + pairs 1-3
+}
+
+TEST_CASE("a folder of unpadded scan numbers is registered in natural order") {
+  const fs::path dir = case_dir("natural");
+  make_sequence(dir, 12);
+  const fs::path renamed = dir / "renamed";
+  fs::create_directories(renamed);
+  for (int i = 0; i < 12; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "scan_%06d.ply", i);
+    fs::copy_file(dir / "seq/scans" / name, renamed / ("scan_" + std::to_string(i) + ".ply"));
+  }
+  const fs::path out = dir / "out";
+  const std::string arguments = "'" + renamed.string() + "' --kitti '" + out.string() +
+                                ".kitti' --pairs '" + out.string() + ".csv' --quiet";
+  REQUIRE(run(PPCR_ODOMETRY_EXE, arguments, out.string() + ".err") == 0);
+  CHECK(read_text(out.string() + ".err").empty());  // --quiet
+  const std::vector<std::string> rows = lines_of(out.string() + ".csv");
+  REQUIRE(rows.size() == 12);
+  for (int i = 1; i < 12; ++i) {
+    const std::string file = "scan_" + std::to_string(i) + ".ply,";
+    CHECK(rows[static_cast<std::size_t>(i)].find(file) != std::string::npos);
+  }
+  const ppcr_odometry::Trajectory truth = read_trajectory(dir / "seq/ground_truth_kitti.txt");
+  CHECK(ate(truth, read_trajectory(out.string() + ".kitti")) < kAteBound);
+}
+
+TEST_CASE("bad usage exits 2 with one line naming the problem") {
+  const fs::path dir = case_dir("usage");
+  make_sequence(dir, 3);
+  const std::string scans = "'" + (dir / "seq/scans").string() + "'";
+  CHECK(run(PPCR_ODOMETRY_EXE, scans, dir / "no_output.err") == 2);
+  CHECK(read_text(dir / "no_output.err").find("--kitti") != std::string::npos);
+  CHECK(run(PPCR_ODOMETRY_EXE, scans + " --kitti k --method nothing", dir / "method.err") == 2);
+  CHECK(read_text(dir / "method.err").find("--method") != std::string::npos);
+  CHECK(run(PPCR_ODOMETRY_EXE, scans + " --kitti k --local-map 0", dir / "map.err") == 2);
+  CHECK(run(PPCR_ODOMETRY_EXE, scans + " --kitti k --radius -1", dir / "radius.err") == 2);
+  CHECK(read_text(dir / "radius.err").find("--radius") != std::string::npos);
+}
