@@ -58,7 +58,7 @@ class Method {
   virtual void set_trace(bool trace) { (void)trace; }
 };
 
-/// Method names this build offers ("ppcr" always; "pcl-icp", ... with peers).
+/// Method names this build offers ("ppcr" and "ppcr-reuse" always; "pcl-icp", ... with peers).
 std::vector<std::string> available_methods();
 
 /// Creates a method by name, or nullptr if unknown / not built.

@@ -7,18 +7,25 @@
 // on the full-resolution source, with the rotation and translation errors of T_est against
 // T0^-1. Time is the method's registration call only (no I/O, no filtering).
 //
-// --shard I/N runs the problems i with i mod N = I (a batch over processes or hosts); --merge
-// puts the shards' CSVs back together and prints the unsharded run's summary (merge.hpp).
+// --methods a,b,... runs several methods on the same problems in one process, every method on a
+// problem before the next problem (starting with a different method each problem), so that a
+// change of the machine's load hits all alike, and prints one table with each method's time
+// relative to the first's (comparison.hpp). --shard I/N runs the problems i with i mod N = I (a
+// batch over processes or hosts); --merge puts the shards' CSVs back together and prints the
+// unsharded run's summary (merge.hpp).
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "bench/comparison.hpp"
 #include "bench/merge.hpp"
 #include "bench/method.hpp"
 #include "bench/problems.hpp"
@@ -99,7 +106,8 @@ struct Arguments {
   std::string problems_path, data_root, method_name = "ppcr", out_csv, trace_dir, label;
   std::string shard_text;
   ppcr_bench::Shard shard;
-  std::vector<std::string> merge;  // the shards' CSVs
+  std::vector<std::string> merge;    // the shards' CSVs
+  std::vector<std::string> methods;  // --methods, or the one --method
   int limit = 0;
   bool json = false, quiet = false, reuse = false;
   double success_translation = -1.0, success_rotation = 1.0, ndt_resolution = 0.0;
@@ -115,6 +123,12 @@ void add_arguments(CLI::App& app, Arguments* a) {
   std::string method_help = "registration method:";
   for (const std::string& n : ppcr_bench::available_methods()) method_help += " " + n;
   app.add_option("--method", a->method_name, method_help + " (default ppcr)");
+  app.add_option("--methods", a->methods,
+                 "A,B,...: run these methods on the same problems, every method on a problem "
+                 "before the next problem, and print one table with each one's time relative to "
+                 "the first's (--out: every method's rows)")
+      ->delimiter(',')
+      ->type_name("LIST");
   app.add_option("--limit", a->limit, "run only the first N problems");
   app.add_option("--out", a->out_csv, "write one CSV row per problem");
   app.add_option("--shard", a->shard_text,
@@ -163,6 +177,47 @@ int check_merge_flags(const CLI::App& app) {
   return -1;
 }
 
+std::string method_names() {
+  std::string names;
+  for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
+  return names;
+}
+
+// Sets a->methods (--methods, or the one --method) and a->method_name (the names as given) and
+// checks them and the flags that take one method; returns -1 to go on, or the exit status.
+int check_methods(const CLI::App& app, Arguments* a) {
+  if (app.count("--methods") == 0) {
+    a->methods = {a->method_name};
+    return -1;
+  }
+  if (app.count("--method") > 0) return usage_error("give --method or --methods, not both");
+  a->method_name.clear();
+  for (const std::string& name : a->methods) {
+    a->method_name += (a->method_name.empty() ? "" : ",") + name;
+  }
+  const std::vector<std::string> available = ppcr_bench::available_methods();
+  for (std::size_t k = 0; k < a->methods.size(); ++k) {
+    const std::string& name = a->methods[k];
+    if (std::find(available.begin(), available.end(), name) == available.end()) {
+      return fail("--methods " + a->method_name + ": '" + name + "' is unknown or not built " +
+                  "(available:" + method_names() + ")");
+    }
+    if (std::find(a->methods.begin(), a->methods.begin() + k, name) != a->methods.begin() + k) {
+      return fail("--methods " + a->method_name + ": '" + name + "' is given twice");
+    }
+  }
+  if (a->methods.size() > 1) {
+    for (const char* one : {"--label", "--trace-dir", "--shard"}) {
+      if (app.count(one) > 0) {
+        return usage_error(
+            std::string(one) + " takes one method, got --methods " + a->method_name +
+            (std::string(one) == "--shard" ? " (a merge reads one method's shards)" : ""));
+      }
+    }
+  }
+  return -1;
+}
+
 // Parses argv into *a and *options; returns -1 to go on, or the exit status.
 int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::RegistrationOptions* options) {
   app.set_version_flag("--version", std::string("ppcr_bench ") + PPCR_VERSION_STRING);
@@ -188,12 +243,19 @@ int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::Registration
     return 2;
   }
   if (a->limit < 0) return fail("--limit " + std::to_string(a->limit) + ": expected >= 0");
-  if (a->reuse && a->method_name != "ppcr") {
-    return fail("--reuse is for --method ppcr, got " + a->method_name);
+  const int methods = check_methods(app, a);
+  if (methods >= 0) return methods;
+  const std::string flag = a->methods.size() > 1 ? "--methods " : "--method ";
+  if (a->reuse && a->methods != std::vector<std::string>{"ppcr"}) {
+    return fail("--reuse is for --method ppcr alone (beside others: the method ppcr-reuse), got " +
+                flag + a->method_name);
   }
   const bool automatic = options->radius == ppcr::RegistrationOptions::kAutomaticRadius;
-  if (automatic && a->method_name != "ppcr") {
-    return fail("--method " + a->method_name + " needs --radius (only ppcr has an automatic one)");
+  for (const std::string& name : a->methods) {
+    if (automatic && name.rfind("ppcr", 0) != 0) {
+      return fail(flag + a->method_name + ": " + name +
+                  " needs --radius (only ppcr has an automatic one)");
+    }
   }
   if (automatic && a->success_translation < 0.0) {
     return fail(
@@ -204,7 +266,7 @@ int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::Registration
   return -1;
 }
 
-std::unique_ptr<ppcr_bench::Method> make_method(const Arguments& a,
+std::unique_ptr<ppcr_bench::Method> make_method(const Arguments& a, const std::string& name,
                                                 const ppcr::RegistrationOptions& options) {
   ppcr_bench::MethodSettings settings;
   settings.ppcr = options;
@@ -213,45 +275,56 @@ std::unique_ptr<ppcr_bench::Method> make_method(const Arguments& a,
   settings.max_iterations = options.max_iterations;
   settings.threads = options.num_threads;
   settings.reuse_registration = a.reuse;
-  std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(a.method_name, settings);
+  std::unique_ptr<ppcr_bench::Method> method = ppcr_bench::make_method(name, settings);
   if (method && !a.trace_dir.empty()) method->set_trace(true);
   return method;
 }
 
-// One problem: S = T0 P, filtered like the target; the method's registration call alone is
-// timed; the errors are evaluated afterwards on the full-resolution S.
-ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a,
-                         const ppcr::RegistrationOptions& options, CloudCache* cache,
-                         ppcr_bench::Method* method, ppcr_bench::ProblemRow* run) {
-  const ppcr::PointCloud *P = nullptr, *target = nullptr;
+// One problem's input, the same for every method: S = T0 P, filtered like the target.
+struct ProblemInput {
+  ppcr::PointCloud S, S_filtered;
+  const ppcr::PointCloud* target = nullptr;
+  Eigen::Isometry3d T_gt = Eigen::Isometry3d::Identity();
+};
+
+ppcr::Status prepare_problem(const ppcr_bench::Problem& p, const ppcr::RegistrationOptions& options,
+                             CloudCache* cache, ProblemInput* in) {
+  const ppcr::PointCloud* P = nullptr;
   ppcr::Status s = cache->raw(p.source, &P);
-  if (s.ok()) s = cache->filtered_target(p.target, &target);
+  if (s.ok()) s = cache->filtered_target(p.target, &in->target);
   if (!s.ok()) return s;
-  ppcr::PointCloud S(P->size());
-  for (std::size_t k = 0; k < P->size(); ++k) S[k] = p.T0 * (*P)[k];
-  ppcr::PointCloud S_filtered = S;
+  in->S.resize(P->size());
+  for (std::size_t k = 0; k < P->size(); ++k) in->S[k] = p.T0 * (*P)[k];
+  in->S_filtered = in->S;
   if (options.source_voxel > 0.0) {
-    s = ppcr::voxel_downsample(S, options.source_voxel, &S_filtered);
+    s = ppcr::voxel_downsample(in->S, options.source_voxel, &in->S_filtered);
     if (!s.ok()) return ppcr::Status(s.code(), "source: " + s.message());
   }
-  const Eigen::Isometry3d T_gt = p.T0.inverse();
+  in->T_gt = p.T0.inverse();
+  return ppcr::Status::Ok();
+}
+
+// One method on one problem: its registration call alone is timed; the errors are evaluated
+// afterwards on the full-resolution S.
+ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a, const ProblemInput& in,
+                         ppcr_bench::Method* method, ppcr_bench::ProblemRow* run) {
   const auto start = std::chrono::steady_clock::now();
-  run->result = method->run(S_filtered, *target);
+  run->result = method->run(in.S_filtered, *in.target);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (!a.trace_dir.empty()) {
-    s = ppcr_tools::write_trace_csv(a.trace_dir + "/" + p.id + ".csv", run->result.history,
-                                    S_filtered, &T_gt);
+    const ppcr::Status s = ppcr_tools::write_trace_csv(
+        a.trace_dir + "/" + p.id + ".csv", run->result.history, in.S_filtered, &in.T_gt);
     if (!s.ok()) return s;
   }
-  const ppcr::PoseErrors e = ppcr::evaluate(S, run->result.T_target_source, T_gt);
+  const ppcr::PoseErrors e = ppcr::evaluate(in.S, run->result.T_target_source, in.T_gt);
   run->outcome.error = e.benchmark_error;
   run->outcome.rotation_error_deg = e.rotation_error_deg;
   run->outcome.translation_error = e.translation_error;
   run->outcome.iterations = run->result.iterations;
   run->outcome.time_ms = ms;
-  run->source_points = S_filtered.size();
-  run->target_points = target->size();
+  run->source_points = in.S_filtered.size();
+  run->target_points = in.target->size();
   return ppcr::Status::Ok();
 }
 
@@ -278,20 +351,77 @@ ppcr::Status load_problems(Arguments* a, std::vector<ppcr_bench::Problem>* probl
   return ppcr::Status::Ok();
 }
 
-// Runs this shard's problems (every problem without --shard), writes --out, prints the summary.
+// One method of the run, and what it has produced so far.
+struct MethodRun {
+  std::unique_ptr<ppcr_bench::Method> method;
+  ppcr_bench::RunInfo info;
+  ppcr_bench::MethodOutcomes done;
+};
+
+// Makes a.methods' methods into *runs; returns -1 to go on, or the exit status.
+int make_methods(const CLI::App& app, const Arguments& a, const ppcr::RegistrationOptions& options,
+                 const std::vector<ppcr_bench::Problem>& problems, std::vector<MethodRun>* runs) {
+  for (const std::string& name : a.methods) {
+    MethodRun r;
+    r.method = make_method(a, name, options);
+    if (!r.method) {
+      return fail("--method " + name + ": unknown or not built (available:" + method_names() + ")");
+    }
+    r.info = {a.label.empty() ? r.method->name() : a.label, ppcr_bench::run_settings(app, problems),
+              problems.size(), a.success_rotation, a.success_translation};
+    r.done.label = r.info.label;
+    runs->push_back(std::move(r));
+  }
+  return -1;
+}
+
+// Every method on one problem, starting with method (turn mod M) so that none always runs first;
+// the CSV rows go out in the methods' order.
+ppcr::Status run_methods(const ppcr_bench::Problem& p, std::size_t index, std::size_t turn,
+                         const Arguments& a, const ProblemInput& input, std::FILE* csv,
+                         std::vector<MethodRun>* runs) {
+  std::vector<ppcr_bench::ProblemRow> rows(runs->size());
+  for (std::size_t k = 0; k < runs->size(); ++k) {
+    const std::size_t m = (turn + k) % runs->size();
+    rows[m].index = index;
+    rows[m].id = p.id;
+    const ppcr::Status s = run_problem(p, a, input, (*runs)[m].method.get(), &rows[m]);
+    if (!s.ok()) return s;
+  }
+  for (std::size_t m = 0; m < runs->size(); ++m) {
+    MethodRun& r = (*runs)[m];
+    r.done.outcomes.push_back(rows[m].outcome);
+    if (!rows[m].result.ok) ++r.done.failures;
+    if (csv != nullptr) std::fputs(ppcr_bench::format_row(r.info, rows[m]).c_str(), csv);
+  }
+  return ppcr::Status::Ok();
+}
+
+// One method: its summary as always; several: the comparison table.
+void print_results(const Arguments& a, const std::vector<MethodRun>& runs) {
+  if (runs.size() == 1) {
+    const ppcr_bench::MethodOutcomes& d = runs.front().done;
+    ppcr_bench::print_summary(
+        ppcr_bench::summarize(d.outcomes, a.success_rotation, a.success_translation),
+        {d.label, d.failures, a.success_rotation, a.success_translation, a.json});
+    return;
+  }
+  std::vector<ppcr_bench::MethodOutcomes> methods;
+  for (const MethodRun& r : runs) methods.push_back(r.done);
+  ppcr_bench::print_comparison(
+      ppcr_bench::compare(methods, a.success_rotation, a.success_translation), a.success_rotation,
+      a.success_translation, a.json);
+}
+
+// Runs this shard's problems (every problem without --shard) with every method, writes --out,
+// prints the summary or the comparison.
 int run(const CLI::App& app, Arguments a, const ppcr::RegistrationOptions& options) {
   std::vector<ppcr_bench::Problem> problems;
   ppcr::Status s = load_problems(&a, &problems);
   if (!s.ok()) return fail(s.message());
-  std::unique_ptr<ppcr_bench::Method> method = make_method(a, options);
-  if (!method) {
-    std::string names;
-    for (const std::string& n : ppcr_bench::available_methods()) names += " " + n;
-    return fail("--method " + a.method_name + ": unknown or not built (available:" + names + ")");
-  }
-  const ppcr_bench::RunInfo info{a.label.empty() ? method->name() : a.label,
-                                 ppcr_bench::run_settings(app, problems), problems.size(),
-                                 a.success_rotation, a.success_translation};
+  std::vector<MethodRun> runs;
+  const int made = make_methods(app, a, options, problems, &runs);
+  if (made >= 0) return made;
   std::FILE* csv = nullptr;
   if (!a.out_csv.empty()) {
     csv = std::fopen(a.out_csv.c_str(), "w");
@@ -304,23 +434,19 @@ int run(const CLI::App& app, Arguments a, const ppcr::RegistrationOptions& optio
   }
   const bool bar = !a.quiet && isatty(fileno(stderr));
   CloudCache cache(a.data_root, options.target_voxel);
-  std::vector<ppcr_bench::ProblemOutcome> outcomes;
-  std::size_t failures = 0;
   for (std::size_t k = 0; k < mine.size(); ++k) {
-    ppcr_bench::ProblemRow row;
-    row.index = mine[k];
-    row.id = problems[row.index].id;
-    s = run_problem(problems[row.index], a, options, &cache, method.get(), &row);
-    if (!s.ok()) return fail("problem " + row.id + ": " + s.message());
-    outcomes.push_back(row.outcome);
-    if (!row.result.ok) ++failures;
-    if (csv != nullptr) std::fputs(ppcr_bench::format_row(info, row).c_str(), csv);
-    if (bar) progress(k + 1, mine.size(), row.outcome.error);
+    const ppcr_bench::Problem& p = problems[mine[k]];
+    ProblemInput input;
+    s = prepare_problem(p, options, &cache, &input);
+    if (s.ok()) s = run_methods(p, mine[k], k, a, input, csv, &runs);
+    if (!s.ok()) {
+      if (csv != nullptr) std::fclose(csv);
+      return fail("problem " + p.id + ": " + s.message());
+    }
+    if (bar) progress(k + 1, mine.size(), runs.front().done.outcomes.back().error);
   }
   if (csv != nullptr && std::fclose(csv) != 0) return fail(a.out_csv + ": write failed");
-  ppcr_bench::print_summary(
-      ppcr_bench::summarize(outcomes, a.success_rotation, a.success_translation),
-      {info.label, failures, a.success_rotation, a.success_translation, a.json});
+  print_results(a, runs);
   return 0;
 }
 

@@ -68,8 +68,8 @@ runs=("ppcr|--method ppcr" "ppcr-sn|--method ppcr --source-normals"
       "ppcr-point|--method ppcr --error-model point"
       "ppcr-gaussian|--method ppcr --gaussian"
       "ppcr-paper|--method ppcr --error-model point --scale raw --motion-guard 0")
-for m in $methods; do
-  [[ $m == ppcr ]] || runs+=("$m|--method $m")
+for m in $methods; do  # the peers (ppcr-reuse is ppcr's loop usage, the same results)
+  [[ $m == ppcr* ]] || runs+=("$m|--method $m")
 done
 
 commands=()

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <nlohmann/json.hpp>
 
 namespace ppcr_bench {
 
@@ -45,20 +44,24 @@ Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_ro
   return s;
 }
 
+nlohmann::ordered_json summary_json(const Summary& sum, const SummaryContext& c) {
+  nlohmann::ordered_json j;
+  j["method"] = c.label;
+  j["problems"] = sum.problems;
+  j["median"] = sum.median;
+  j["q75"] = sum.q75;
+  j["q95"] = sum.q95;
+  j["success"] = sum.success;
+  j["mean_iterations"] = sum.mean_iterations;
+  j["median_ms"] = sum.median_ms;
+  j["max_ms"] = sum.max_ms;
+  j["failures"] = c.failures;
+  return j;
+}
+
 void print_summary(const Summary& sum, const SummaryContext& c) {
   if (c.json) {
-    nlohmann::ordered_json j;
-    j["method"] = c.label;
-    j["problems"] = sum.problems;
-    j["median"] = sum.median;
-    j["q75"] = sum.q75;
-    j["q95"] = sum.q95;
-    j["success"] = sum.success;
-    j["mean_iterations"] = sum.mean_iterations;
-    j["median_ms"] = sum.median_ms;
-    j["max_ms"] = sum.max_ms;
-    j["failures"] = c.failures;
-    std::printf("%s\n", j.dump().c_str());
+    std::printf("%s\n", summary_json(sum, c).dump().c_str());
     return;
   }
   std::printf("method %s, %zu problems (%zu failed to run)\n", c.label.c_str(), sum.problems,

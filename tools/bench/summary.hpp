@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct SummaryContext {
   double success_rotation_deg = 1.0, success_translation = 0.0;
   bool json = false;  // one JSON object instead of the text lines
 };
+
+/// The summary as print_summary's JSON object (method, problems, quantiles, success, iterations,
+/// times, failures); a comparison of methods prints one per method.
+nlohmann::ordered_json summary_json(const Summary& summary, const SummaryContext& context);
 
 /// Prints the run's summary on stdout: the only printer, for a run and for a merge of shards.
 void print_summary(const Summary& summary, const SummaryContext& context);
