@@ -192,10 +192,13 @@ TEST_CASE("a folder of unpadded scan numbers is registered in natural order") {
   CHECK(ate(truth, read_trajectory(out.string() + ".kitti")) < kAteBound);
 }
 
-TEST_CASE("bad usage exits 2 with one line naming the problem") {
+TEST_CASE("one output is enough; none, or bad values, exit 2 with one line naming the problem") {
   const fs::path dir = case_dir("usage");
   make_sequence(dir, 3);
   const std::string scans = "'" + (dir / "seq/scans").string() + "'";
+  const fs::path tum = dir / "only.tum";
+  REQUIRE(run(PPCR_ODOMETRY_EXE, scans + " --tum '" + tum.string() + "'", dir / "only.err") == 0);
+  CHECK(read_trajectory(tum).poses.size() == 3);
   CHECK(run(PPCR_ODOMETRY_EXE, scans, dir / "no_output.err") == 2);
   CHECK(read_text(dir / "no_output.err").find("--kitti") != std::string::npos);
   CHECK(run(PPCR_ODOMETRY_EXE, scans + " --kitti k --method nothing", dir / "method.err") == 2);

@@ -62,6 +62,19 @@ TEST_CASE("KITTI and TUM files read back the poses written") {
   }
 }
 
+TEST_CASE("a rotation printed with 6 digits is read as the nearest rotation") {
+  const std::string rounded = path_of("rounded.kitti");
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  char line[256];
+  std::snprintf(line, sizeof(line), "%.6g %.6g 0 1 %.6g %.6g 0 2 0 0 1 3\n", c, -s, s, c);
+  std::ofstream(rounded) << line;
+  ppcr_odometry::Trajectory t;
+  REQUIRE(ppcr_odometry::read_trajectory(rounded, &t).ok());
+  const Eigen::Matrix3d R = t.poses[0].linear();
+  CHECK((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-14);
+  CHECK(std::abs(std::atan2(R(1, 0), R(0, 0)) - 0.3) < 1e-6);
+}
+
 TEST_CASE("malformed trajectories are refused naming the file and the line") {
   const std::string bad = path_of("bad.kitti");
   std::ofstream(bad) << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n";
@@ -71,13 +84,13 @@ TEST_CASE("malformed trajectories are refused naming the file and the line") {
   CHECK(s.message().find(bad + ":2:") != std::string::npos);
 
   const std::string skew = path_of("skew.kitti");
-  std::ofstream(skew) << "1 0.1 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream(skew) << "1 0.01 0 0 0 1 0 0 0 0 1 0\n";
   s = ppcr_odometry::read_trajectory(skew, &t);
   REQUIRE(!s.ok());
   CHECK(s.message().find("orthonormal") != std::string::npos);
 
   const std::string long_q = path_of("long_q.tum");
-  std::ofstream(long_q) << "0 1 2 3 0 0 0 1.5\n";
+  std::ofstream(long_q) << "0 1 2 3 0 0 0 1.001\n";
   s = ppcr_odometry::read_trajectory(long_q, &t);
   REQUIRE(!s.ok());
   CHECK(s.message().find(long_q + ":1:") != std::string::npos);

@@ -37,6 +37,7 @@ ppcr::Status PairLog::open(const std::string& path) {
 
 ppcr::Status PairLog::append(std::size_t scan, const std::string& file, const std::string& method,
                              const PairOutcome& outcome, double time_ms) {
+  if (!file_.is_open()) return ppcr::Status::Ok();  // no --pairs
   const ppcr::RegistrationResult& r = outcome.result;
   const bool measured = outcome.has_measures;
   const std::string row =

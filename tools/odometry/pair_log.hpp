@@ -16,6 +16,7 @@ class PairLog {
  public:
   /// Creates the file and writes the header.
   ppcr::Status open(const std::string& path);
+  /// Appends a row; nothing when the file was not opened.
   ppcr::Status append(std::size_t scan, const std::string& file, const std::string& method,
                       const PairOutcome& outcome, double time_ms);
   ppcr::Status close() { return file_.close(); }

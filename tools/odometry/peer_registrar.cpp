@@ -2,6 +2,7 @@
 // registration. A peer registers from identity, so the source is first moved by the guess and
 // the guess composed back onto the peer's answer: T = T_peer * T_guess. As in the bench, a peer
 // gets the clouds voxel-filtered by --source-voxel and --target-voxel (ppcr filters inside).
+#include <Eigen/SVD>
 #include <memory>
 
 #include "bench/peers.hpp"
@@ -13,7 +14,9 @@ namespace {
 
 class PeerRegistrar : public PairRegistrar {
  public:
-  explicit PeerRegistrar(std::unique_ptr<ppcr_bench::Method> method) : method_(std::move(method)) {}
+  PeerRegistrar(std::unique_ptr<ppcr_bench::Method> method, double source_voxel,
+                double target_voxel)
+      : method_(std::move(method)), source_voxel_(source_voxel), target_voxel_(target_voxel) {}
   std::string name() const override { return method_->name(); }
   ppcr::Status set_target(const ppcr::PointCloud& target) override {
     // The peer builds its structures inside run(), timed with it.
@@ -27,12 +30,19 @@ class PeerRegistrar : public PairRegistrar {
     const ppcr_bench::MethodResult r = method_->run(moved_, target_);
     if (!r.ok) out.result.status = ppcr::Status(ppcr::StatusCode::kInvalidArgument, r.message);
     out.result.T_target_source = r.T_target_source * T_guess;
+    // PCL works in float: its rotation is orthonormal to ~1e-7 only, and chaining hundreds of
+    // them would drift; use the nearest rotation.
+    out.result.T_target_source.linear() = nearest_rotation(out.result.T_target_source.linear());
     out.result.iterations = r.iterations;
     out.stop_reason = r.stop_reason;
     return out;
   }
 
  private:
+  static Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    return svd.matrixU() * svd.matrixV().transpose();
+  }
   static ppcr::Status filter(const ppcr::PointCloud& cloud, double leaf, ppcr::PointCloud* out) {
     if (leaf > 0.0) return ppcr::voxel_downsample(cloud, leaf, out);
     *out = cloud;

@@ -1,6 +1,7 @@
 // trajectory_format.cpp - KITTI and TUM lines, written and read.
 #include "odometry/trajectory_format.hpp"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -9,7 +10,8 @@
 namespace ppcr_odometry {
 namespace {
 
-constexpr double kTolerance = 1e-6;
+constexpr double kTolerance = 1e-4;
+constexpr double kExact = 1e-12;  // below this a rotation is kept as read
 
 void append(std::string* line, double value) {
   char text[32];
@@ -37,6 +39,10 @@ ppcr::Status parse_pose(const std::vector<double>& v, const std::string& path, i
       return parse_error(path, line,
                          "the rotation is not orthonormal (R^T R deviates from I by " +
                              std::to_string(deviation) + ")");
+    }
+    if (deviation > kExact) {
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      pose->linear() = svd.matrixU() * svd.matrixV().transpose();
     }
     *time = 0.0;
     return ppcr::Status::Ok();

@@ -23,8 +23,10 @@ std::string tum_line(double time, const Eigen::Isometry3d& pose);
 
 /// Reads a KITTI (12 numbers a line) or TUM (8 numbers a line) trajectory, told apart by the
 /// first data line; blank lines and '#' comments are skipped. A KITTI rotation must be
-/// orthonormal within 1e-6 and a TUM quaternion of unit norm within 1e-6 (it is then
-/// normalised); the message names the file, the line and what is wrong.
+/// orthonormal within 1e-4 (|R^T R - I|, files printed with 6 digits or from float code) and is
+/// then replaced by the nearest rotation when it deviates by more than 1e-12; a TUM quaternion
+/// must have unit norm within 1e-4 and is normalised. The message names the file, the line and
+/// what is wrong.
 ppcr::Status read_trajectory(const std::string& path, Trajectory* trajectory);
 
 }  // namespace ppcr_odometry
