@@ -37,9 +37,14 @@ SAMPLES = [
      "{lambda(long)#1}::operator()(long) const"], "pair_normals.cpp:30",
      "normals and information matrices"),
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "weight_kernel.hpp:40", "E-step (weights)"),
+    # The weight kernel inlined into the pass (perf names inlined frames without their
+    # parameters), its leaf an intrinsic's header.
+    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS,
+             f"{NS}detail::student_t_weights<false, {NS}detail::PowerDyadic>", "_mm_sqrt_pd"],
+     "emmintrin.h:800 (inlined)", "E-step (weights)"),
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "normal_equations.cpp:150",
      "normal equations (plane pass)"),
-    (ROOT + [ALIGN, REG_ALIGN, SOLVE], "lm_solver.cpp:80", "LM bookkeeping"),
+    (ROOT + [ALIGN, REG_ALIGN, SOLVE], "lm_solver.cpp:80", "LM and outer-loop bookkeeping"),
     (ROOT + [f"{NS}voxel_downsample({CLOUD}, double, {CLOUD}*)"], "voxel.cpp:20", None),
     (ROOT + [ALIGN, REG_ALIGN, f"{NS}detail::measure_alignment(int)"] + KD, "kdtree.cpp:90",
      "quality measures"),
@@ -51,7 +56,7 @@ SAMPLES = [
     (ROOT + [ALIGN, REG_ALIGN, f"{NS}Registration::Impl::start(int)",
              f"{NS}detail::LMSolver::resize(unsigned long, int)", "__memset_avx2_unaligned"],
      "memset.S:10", "set-up (tree, preparation, spacing)"),
-    (ROOT + [ALIGN, REG_ALIGN], "registration.cpp:320", "outer loop, other"),
+    (ROOT + [ALIGN, REG_ALIGN], "registration.cpp:320", "LM and outer-loop bookkeeping"),
 ]
 
 
@@ -61,7 +66,8 @@ def perf_script_text():
     for k, (chain, srcline, _) in enumerate(SAMPLES):
         out.append(f"ppcr_bench 100 {k}.000000: ")
         for depth, frame in enumerate(reversed(chain)):  # the leaf first
-            out.append(f"\t    {0x1000 + depth:x} {frame}+0x1{'f' * (depth % 2)}")
+            offset = f"+0x1{'f' * (depth % 2)}" if frame.endswith((")", "const")) else ""
+            out.append(f"\t    {0x1000 + depth:x} {frame}{offset}")
             out.append(f"  {srcline if depth == 0 else 'registration.cpp:1'}")
         out.append("")
     return "\n".join(out) + "\n"

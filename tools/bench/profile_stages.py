@@ -9,13 +9,15 @@ stage of its own (the normal fits, the plane pass, the quality measures, ...) de
 sample's stage, so the stages split ppcr's time and add up to 100 %; a frame that only contains
 stages (the association, the LM solver, set_target) gives its stage to the samples that reach no
 stage inside it: the pair normals computed during the association count as normals, the k-d
-queries of the normal fits as normals, those of the association as search. Inside the plane pass, a sample whose leaf is in the E-step's kernel
-(weight_kernel.hpp; needs a build with -g) is the E-step's. ppcr's time is the samples under
-ppcr::align, Registration::set_target or Registration::align; the rest (reading files, the
-bench's own filtering and evaluation) is reported as outside. Prints one JSON object: samples,
-ppcr_samples, and per stage its share of ppcr's samples, plus the k-d search's share over all
-callers (inside the stages); --table puts such objects side by side.
-Standard library only.
+queries of the normal fits as normals, those of the association as search. Inside the plane
+pass, which computes the E-step's weights as it goes, a sample is the E-step's when a frame below
+the pass is the weight kernel's (the kernel is inlined: perf shows it from the debug information
+of a build with -g) or its leaf's source line is in weight_kernel.hpp. ppcr's time is the
+samples under ppcr::align, Registration::set_target or Registration::align; the rest (reading
+files, the bench's own filtering and evaluation) is reported as outside. Prints one JSON object:
+samples, ppcr_samples, and per stage its share of ppcr's samples, plus the k-d search's share
+over all callers (inside the stages); --table puts such objects side by side. Standard library
+only.
 """
 import argparse
 import json
@@ -36,17 +38,18 @@ RULES = [
      r"|detail::associate$|NeighbourCache::|spread_lists|AssociationTable::", False),
     ("normal equations (plane pass)", r"NormalEquations::(evaluate|pass)", True),
     ("E-step (weights)", r"compute_weights|student_t_weights|gaussian_weights", True),
-    ("LM bookkeeping", r"LMSolver::solve", False),
+    ("LM and outer-loop bookkeeping", r"LMSolver::solve", False),
     ("set-up (tree, preparation, spacing)", r"Registration::set_target|prepare_source"
      r"|prepare_cloud|spatial_sort|KdTree::build|median_spacing|Registration::Impl::start", False),
-    ("outer loop, other", r"align$", False),
+    ("LM and outer-loop bookkeeping", r"align$", False),
 ]
-STAGES = [r[0] for r in RULES]
+STAGES = list(dict.fromkeys(r[0] for r in RULES))  # in order, once each
 COMPILED = [(stage, re.compile(NS + r"(?:\w+::)*(?:" + p + ")"), specific)
             for stage, p, specific in RULES]
 ENTRY = re.compile(r"^" + NS + r"(align|Registration::set_target|Registration::align)$")
 KD_SEARCH = re.compile(NS + r"detail::KdTree::(radius_knn|Impl::search)$")
 E_STEP_FILE = "weight_kernel.hpp"
+E_STEP = next(pattern for stage, pattern, _ in COMPILED if stage.startswith("E-step"))
 
 
 def base_name(symbol):
@@ -71,7 +74,7 @@ def classify(frames, leaf_srcline):
     """Stage of one sample; frames root first (base names). None: outside ppcr's calls."""
     inside = False
     container = None
-    for name in frames:
+    for depth, name in enumerate(frames):
         if not inside:
             inside = bool(ENTRY.match(name))
             if not inside:
@@ -79,14 +82,16 @@ def classify(frames, leaf_srcline):
         for stage, pattern, specific in COMPILED:
             if pattern.search(name):
                 if specific:
-                    if stage.startswith("normal equations") and E_STEP_FILE in leaf_srcline:
+                    if stage.startswith("normal equations") and (
+                            E_STEP_FILE in leaf_srcline or
+                            any(E_STEP.search(f) for f in frames[depth + 1:])):
                         return "E-step (weights)"
                     return stage
                 container = stage
                 break
     if not inside:
         return None
-    return container or "outer loop, other"
+    return container or "LM and outer-loop bookkeeping"
 
 
 def read_samples(stream):
