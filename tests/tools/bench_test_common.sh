@@ -1,5 +1,7 @@
+# shellcheck shell=bash
 # bench_test_common.sh - sourced by ppcr_bench's script tests: failing, checking a refusal, and
 # the small synthetic problem set they run on. Needs $work (the test's folder) set.
+# shellcheck disable=SC2154  # $work: set by the test that sources this file
 
 fail() {
   echo "FAIL: $*" >&2
