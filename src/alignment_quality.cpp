@@ -22,10 +22,20 @@ struct Sums {
 };
 constexpr std::size_t kSums = 4;
 
-// Nearest point of `tree` within radius of each T * points[i] (and whether it is within near_sq
-// and close_sq), summed per block, then in order.
+// Whether p, whose nearest target point is y = points[index] at squared distance d_sq, is on the
+// target's surface (SurfaceTest).
+bool on_surface(const SurfaceTest& t, std::uint32_t index, const Eigen::Vector3d& p, double d_sq) {
+  const double close_sq = t.close_distance * t.close_distance;
+  if (t.planes == nullptr || (*t.planes)[index].n.isZero()) return d_sq <= close_sq;
+  const PlanePoint& q = (*t.planes)[index];
+  const double along = q.n.dot(p - q.y);
+  return along * along <= close_sq && d_sq <= t.reach * t.reach;
+}
+
+// Nearest point of `tree` within radius of each T * points[i], whether it is within near_sq and,
+// if `surface` is given, whether a near point is on the surface. Summed per block, then in order.
 Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::Isometry3d& T,
-                    double radius_sq, double near_sq, double close_sq, int num_threads,
+                    double radius_sq, double near_sq, const SurfaceTest* surface, int num_threads,
                     std::vector<double>* scratch) {
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
@@ -37,11 +47,13 @@ Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::I
     for (std::size_t i = begin; i < end; ++i) {
       std::uint32_t index;
       double d_sq;
-      if (tree.radius_knn(T * points[i], 1, radius_sq, &index, &d_sq) == 1) {
+      const Eigen::Vector3d p = T * points[i];
+      if (tree.radius_knn(p, 1, radius_sq, &index, &d_sq) == 1) {
         s.matched += 1.0;
-        s.near += d_sq <= near_sq ? 1.0 : 0.0;
-        s.close += d_sq <= close_sq ? 1.0 : 0.0;
         s.dist_sq += d_sq;
+        if (d_sq > near_sq) continue;
+        s.near += 1.0;
+        s.close += surface != nullptr && on_surface(*surface, index, p, d_sq) ? 1.0 : 0.0;
       }
     }
     double* out = blocks + kSums * static_cast<std::size_t>(b);
@@ -65,14 +77,13 @@ Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::I
 AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& target,
                                    const PointCloud& source, const KdTree* source_tree,
                                    const Eigen::Isometry3d& T_target_source, double radius,
-                                   double near_distance, double close_distance, int num_threads,
-                                   std::vector<double>* scratch) {
+                                   double near_distance, const SurfaceTest& surface,
+                                   int num_threads, std::vector<double>* scratch) {
   AlignmentQuality q;
   if (source.empty() || target.empty()) return q;
   const double radius_sq = radius * radius;
   const double near_sq = near_distance * near_distance;
-  const double close_sq = close_distance * close_distance;
-  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq, close_sq,
+  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq, &surface,
                                 num_threads, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
@@ -80,7 +91,7 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
     const Sums back = nearest_within(*source_tree, target, T_target_source.inverse(), radius_sq,
-                                     near_sq, close_sq, num_threads, scratch);
+                                     near_sq, nullptr, num_threads, scratch);
     q.overlap = std::min(q.fitness, back.matched / static_cast<double>(target.size()));
   }
   return q;

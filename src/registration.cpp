@@ -108,9 +108,11 @@ struct Registration::Impl {
   bool has_target = false;
   detail::PreparedCloud target;
   detail::KdTree tree;
-  // Plane model only: the target's points and normals, and its surface noise.
+  // Plane model only: the target's points and normals, its surface noise and the normal fits'
+  // typical reach (target_normals.hpp).
   std::vector<detail::PlanePoint> target_plane_points;
   double target_surface_noise = 0.0;
+  double target_reach = 0.0;
   double target_spacing = 0.0;  // point_spacing.hpp, internal unit
   double radius = 0.0;          // the radius used, cloud units (the user's, or automatic)
   detail::PlaneModel plane;
@@ -176,10 +178,11 @@ Status Registration::set_target(const PointCloud& target) {
   const RegistrationOptions& o = m.solver;
   if (o.error_model == ErrorModel::kPlane) {
     std::vector<Eigen::Vector3d> normals;  // packed below, then freed
-    std::vector<double> spread;
+    std::vector<double> spread, reach;
     detail::compute_normals(m.target.centered, m.tree, o.expert.normal_neighbours, o.num_threads,
-                            &normals, &spread);
-    m.target_surface_noise = detail::surface_noise(spread, &scratch);
+                            &normals, &spread, &reach);
+    m.target_surface_noise = detail::upper_median(spread, &scratch);
+    m.target_reach = detail::upper_median(reach, &scratch);
     detail::pack_plane_points(m.target.centered, normals, o.expert.plane_epsilon,
                               &m.target_plane_points);
     m.plane.points = &m.target_plane_points;
@@ -398,10 +401,15 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   const Clock::time_point start = Clock::now();
   const bool source_indexed =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
+  // On the target's surface: within 2 spacings of it; with the plane model, of the nearest
+  // target point's tangent plane, that point no farther than its normal fit reached.
+  const bool planes = options.error_model == ErrorModel::kPlane;
+  const detail::SurfaceTest surface{kCloseSpacings * target_spacing,
+                                    planes ? &target_plane_points : nullptr, target_reach};
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      solver.radius, std::min(solver.radius, kNearSpacings * target_spacing),
-      kCloseSpacings * target_spacing, options.num_threads, &quality_scratch);
+      solver.radius, std::min(solver.radius, kNearSpacings * target_spacing), surface,
+      options.num_threads, &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);
   result->overlap = q.overlap;

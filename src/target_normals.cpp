@@ -43,9 +43,11 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
 }
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread) {
+                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread,
+                     std::vector<double>* reach) {
   normals->assign(points.size(), Eigen::Vector3d::Zero());
   if (spread != nullptr) spread->assign(points.size(), -1.0);
+  if (reach != nullptr) reach->assign(points.size(), -1.0);
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   const double unbounded = std::numeric_limits<double>::max();
@@ -74,13 +76,14 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
       const NormalFit fit = fit_normal(points, idx, found);
       (*normals)[i] = fit.normal;
       if (spread != nullptr) (*spread)[i] = fit.spread;
+      if (reach != nullptr && found > 0) (*reach)[i] = std::sqrt(d2[found - 1]);
     }
   });
 }
 
-double surface_noise(const std::vector<double>& spread, std::vector<double>* scratch) {
+double upper_median(const std::vector<double>& values, std::vector<double>* scratch) {
   scratch->clear();
-  for (double v : spread) {
+  for (double v : values) {
     if (v >= 0.0) scratch->push_back(v);
   }
   if (scratch->empty()) return 0.0;

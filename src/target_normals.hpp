@@ -37,12 +37,17 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// for why that finds the same neighbours in the same order), so the normals are those of unbounded
 /// queries to the bit (test_target_normals). Precondition: tree was built over exactly `points`
 /// (the points are visited in its leaf order; asserted).
+/// If reach is not null, reach[i] = the distance of the farthest of those neighbours (the fit's
+/// reach: about 2.5 spacings where the cloud is sampled evenly, far more along a scanner's rings,
+/// whose neighbours line up along one ring), or -1 where none was found.
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr);
+                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr,
+                     std::vector<double>* reach = nullptr);
 
-/// The surface noise of a cloud: the upper median of the spreads >= 0 written by compute_normals
-/// (cloud units), or 0 when no point has a normal. Partially sorts a copy held in *scratch.
-double surface_noise(const std::vector<double>& spread, std::vector<double>* scratch);
+/// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the
+/// spreads written by compute_normals, the cloud's surface noise; of the reaches, its typical
+/// reach. Partially sorts a copy held in *scratch.
+double upper_median(const std::vector<double>& values, std::vector<double>* scratch);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

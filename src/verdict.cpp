@@ -26,13 +26,12 @@ Verdict judge(const RegistrationResult& r) {
   }
   if (r.close_fraction < kFailedClose) {
     return {Quality::kFailed,
-            "fewer than 50 % of the source points near the target lie within 2 point "
-            "spacings of it: the surfaces do not coincide"};
+            "fewer than 60 % of the source points near the target lie on its surface: the "
+            "surfaces do not coincide"};
   }
   if (r.close_fraction < kWeakClose) {
     return {Quality::kWeak,
-            "fewer than 75 % of the source points near the target lie within 2 point "
-            "spacings of it"};
+            "fewer than 75 % of the source points near the target lie on its surface"};
   }
   if (r.fitness < kWeakFitness) {
     return {Quality::kWeak, "fitness below 50 %: little overlap, or a wrong pose"};
@@ -40,7 +39,7 @@ Verdict judge(const RegistrationResult& r) {
   if (r.degenerate_directions > 0 && r.close_fraction < kDegenerateClose) {
     return {Quality::kWeak,
             "the target's surfaces leave directions free and fewer than 90 % of the source "
-            "points near the target lie within 2 point spacings of it"};
+            "points near the target lie on its surface"};
   }
   if (r.stop_reason == StopReason::kMaxIterations) {
     return {Quality::kWeak, "the iteration cap stopped the registration before its criterion"};

@@ -19,7 +19,7 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 constexpr double kFailedFitness = 0.05;
-constexpr double kFailedClose = 0.5;
+constexpr double kFailedClose = 0.6;
 constexpr double kWeakClose = 0.75;
 constexpr double kWeakFitness = 0.5;
 constexpr double kDegenerateClose = 0.9;

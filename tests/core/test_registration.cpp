@@ -1,5 +1,6 @@
 // Tests of the public API (ppcr::Registration, ppcr::align): option validation, input checks, and
 // registration of synthetic scenes of analytic surfaces moved by known transforms.
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core_test_util.hpp"
@@ -83,6 +85,47 @@ double brute_force_spacing(const PointCloud& cloud) {
   }
   std::sort(nearest.begin(), nearest.end());
   return nearest[nearest.size() / 2];
+}
+
+// cloud's points by distance from cloud[i] (itself first).
+std::vector<std::pair<double, std::size_t>> by_distance(const PointCloud& cloud, std::size_t i) {
+  std::vector<std::pair<double, std::size_t>> sorted;
+  for (std::size_t k = 0; k < cloud.size(); ++k)
+    sorted.emplace_back((cloud[k] - cloud[i]).squaredNorm(), k);
+  std::sort(sorted.begin(), sorted.end());
+  return sorted;
+}
+
+// The upper median over the cloud of the distance to a point's `neighbours`-th nearest (itself
+// counted): the normal fits' typical reach (target_normals.hpp).
+double brute_force_reach(const PointCloud& cloud, int neighbours) {
+  std::vector<double> reach;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    std::vector<double> d_sq;
+    for (const Eigen::Vector3d& y : cloud) d_sq.push_back((y - cloud[i]).squaredNorm());
+    std::nth_element(d_sq.begin(), d_sq.begin() + (neighbours - 1), d_sq.end());
+    reach.push_back(std::sqrt(d_sq[static_cast<std::size_t>(neighbours - 1)]));
+  }
+  std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
+  return reach[reach.size() / 2];
+}
+
+// The PCA normal of cloud[i] by brute force: its `neighbours` nearest points (itself included),
+// the smallest eigenvector of their covariance; zero where they do not spread in two directions
+// (the plane model's convention, target_normals.hpp).
+Eigen::Vector3d brute_force_normal(const PointCloud& cloud, std::size_t i, int neighbours) {
+  const std::vector<std::pair<double, std::size_t>> by_distance = ::by_distance(cloud, i);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int m = 0; m < neighbours; ++m) mean += cloud[by_distance[m].second];
+  mean /= neighbours;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int m = 0; m < neighbours; ++m) {
+    const Eigen::Vector3d d = cloud[by_distance[m].second] - mean;
+    C += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  if (!(eig.eigenvalues()[1] > 1e-6 * eig.eigenvalues()[2])) return Eigen::Vector3d::Zero();
+  return eig.eigenvectors().col(0);
 }
 
 double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
@@ -1177,7 +1220,7 @@ TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surf
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> spread, scratch;
   ppcr::detail::compute_normals(sc.target, tree, o.expert.normal_neighbours, 1, &normals, &spread);
-  const double noise = ppcr::detail::surface_noise(spread, &scratch);
+  const double noise = ppcr::detail::upper_median(spread, &scratch);
   REQUIRE(noise > 0.0);
 
   const RegistrationResult free_scale = ppcr::align(sc.source, sc.target, o);
@@ -1351,19 +1394,32 @@ TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[r
     CHECK(r.fitness > 0.9);  // a correct registration of overlapping samples
     CHECK(r.quality_ms >= 0.0);
     // The target's spacing (8000 <= 2 x 4096 samples: every point), then the matched source
-    // points within twice that.
+    // points within twice that of the target's surface: along the nearest target point's normal,
+    // that point within the normal fits' reach.
     const double spacing = brute_force_spacing(sc.target);
     CHECK(r.target_spacing == Approx(spacing).epsilon(1e-9));
     // ... over the source points within min(radius, 8 spacings) of the target.
     const double near = std::min(o.radius, 8.0 * spacing);
-    std::size_t close = 0, near_count = 0;
+    const double reach = brute_force_reach(sc.target, o.expert.normal_neighbours);
+    std::size_t close = 0, near_count = 0, along_normal = 0;
     for (const Eigen::Vector3d& x : sc.source) {
+      const Eigen::Vector3d p = r.T_target_source * x;
       double best = HUGE_VAL;
-      for (const Eigen::Vector3d& y : sc.target)
-        best = std::min(best, (y - r.T_target_source * x).squaredNorm());
-      if (best <= radius_sq && best <= near * near) ++near_count;
-      if (best <= radius_sq && best <= 4.0 * spacing * spacing) ++close;
+      std::size_t nearest = 0;
+      for (std::size_t k = 0; k < sc.target.size(); ++k) {
+        const double d_sq = (sc.target[k] - p).squaredNorm();
+        if (d_sq < best) best = d_sq, nearest = k;
+      }
+      if (best > radius_sq || best > near * near) continue;
+      ++near_count;
+      const Eigen::Vector3d normal =
+          brute_force_normal(sc.target, nearest, o.expert.normal_neighbours);
+      const double along = normal.dot(p - sc.target[nearest]);
+      along_normal += !normal.isZero();
+      const bool on_plane = along * along <= 4.0 * spacing * spacing && best <= reach * reach;
+      close += normal.isZero() ? best <= 4.0 * spacing * spacing : on_plane;
     }
+    CHECK(along_normal > near_count / 2);  // the plane distance is the one tested
     CHECK(r.close_fraction == Approx(static_cast<double>(close) / near_count).epsilon(1e-12));
     CHECK(r.quality == ppcr::Quality::kGood);
   }
@@ -1444,4 +1500,56 @@ TEST_CASE("the verdict does not fall with a radius far larger than the scene", "
   }
   CHECK(huge.fitness == 1.0);
   CHECK(scene_radius.fitness < 0.9);
+}
+
+// A corner (floor and two walls) sampled like a spinning scanner: rows 10 mm apart across, points
+// 1 mm apart along, 1 mm of noise normal to the surface; the source's rows fall halfway between
+// the target's. A surface point is then up to 5 mm from its nearest sample, 2.5 spacings.
+PointCloud scanned_corner(double row_offset, Rng* rng) {
+  PointCloud cloud;
+  constexpr double kAlong = 0.001, kAcross = 0.005, kNoise = 0.001;
+  for (double u = 0.0; u < 0.3; u += kAlong) {
+    for (double v = row_offset; v < 0.3; v += kAcross) {
+      cloud.emplace_back(u, v, core_test::gaussian(*rng, kNoise));  // floor
+      cloud.emplace_back(u, core_test::gaussian(*rng, kNoise), v);  // wall y = 0
+      cloud.emplace_back(core_test::gaussian(*rng, kNoise), u, v);  // wall x = 0
+    }
+  }
+  return cloud;
+}
+
+TEST_CASE("a right registration of ring-sampled scans is not flagged", "[registration]") {
+  // The verdict's close share measures the distance to the target's surface along the nearest
+  // target point's normal: to that point itself, most of these right results would lie farther
+  // than 2 spacings and read as surfaces that do not coincide.
+  Rng rng(7);
+  const PointCloud target = scanned_corner(0.0, &rng);
+  const PointCloud source_true = scanned_corner(0.0025, &rng);
+  Eigen::Isometry3d T_true = Eigen::Isometry3d::Identity();
+  T_true.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  T_true.translation() = Eigen::Vector3d(0.004, -0.003, 0.002);
+  PointCloud source;  // source = T_true^-1 source_true: registering it gives T_true
+  for (const Eigen::Vector3d& x : source_true) source.push_back(T_true.inverse() * x);
+  RegistrationOptions o;
+  o.radius = 0.03;
+  const RegistrationResult r = ppcr::align(source, target, o);
+  INFO(ppcr::to_string(r.quality) << " " << r.quality_reason << ", close " << r.close_fraction
+                                  << ", spacing " << r.target_spacing);
+  REQUIRE(r.status.ok());
+  REQUIRE(rms_error(source, r.T_target_source, T_true) < 1e-3);
+  REQUIRE(r.target_spacing == Approx(0.001).epsilon(0.2));
+  // To the nearest point, the share within 2 spacings is low (the rows' gap), so the test is one
+  // the point distance would fail (sampled: every 20th source point).
+  std::size_t near = 0, close = 0;
+  for (std::size_t j = 0; j < source.size(); j += 20) {
+    const Eigen::Vector3d p = r.T_target_source * source[j];
+    double d_sq = HUGE_VAL;
+    for (const Eigen::Vector3d& y : target) d_sq = std::min(d_sq, (y - p).squaredNorm());
+    if (d_sq > 64.0 * r.target_spacing * r.target_spacing) continue;
+    ++near;
+    close += d_sq <= 4.0 * r.target_spacing * r.target_spacing;
+  }
+  CHECK(static_cast<double>(close) / near < 0.5);
+  CHECK(r.close_fraction > 0.9);
+  CHECK(r.quality == ppcr::Quality::kGood);
 }

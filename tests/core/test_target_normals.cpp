@@ -103,8 +103,10 @@ TEST_CASE("normals and spreads are identical with 1 and 2 threads", "[target_nor
   CHECK(spread[0] == spread[1]);
 }
 
-TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute force",
-          "[target_normals]") {
+TEST_CASE(
+    "spread and reach: the RMS distance of each fit's points from their plane and the farthest "
+    "one's distance, brute force",
+    "[target_normals]") {
   // A plane with Gaussian noise of std 0.01 along its normal: the spread of every point against an
   // independent reference (brute-force k nearest, Eigen's iterative eigensolver), and the surface
   // noise (their upper median) near the noise's std.
@@ -120,9 +122,10 @@ TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(plane).ok());
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread;
-  ppcr::detail::compute_normals(plane, tree, k, 2, &normals, &spread);
+  std::vector<double> spread, reach;
+  ppcr::detail::compute_normals(plane, tree, k, 2, &normals, &spread, &reach);
   REQUIRE(spread.size() == plane.size());
+  REQUIRE(reach.size() == plane.size());
   std::vector<std::pair<double, std::size_t>> by_distance(plane.size());
   for (std::size_t i = 0; i < plane.size(); ++i) {
     for (std::size_t m = 0; m < plane.size(); ++m) {
@@ -135,9 +138,10 @@ TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute
     const Eigen::Matrix3d C = centred.transpose() * centred / k;
     const double lambda_min = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[0];
     CHECK(spread[i] == Approx(std::sqrt(lambda_min)).epsilon(1e-6));
+    CHECK(reach[i] == std::sqrt(by_distance[static_cast<std::size_t>(k - 1)].first));
   }
   std::vector<double> scratch;
-  const double noise_level = ppcr::detail::surface_noise(spread, &scratch);
+  const double noise_level = ppcr::detail::upper_median(spread, &scratch);
   // The smallest eigenvalue of 20 points' scatter underestimates the noise's variance (the fitted
   // plane follows the sample): about (k - 3) / k of it.
   INFO("surface noise " << noise_level);
@@ -145,13 +149,13 @@ TEST_CASE("spread: the RMS distance of each fit's points from their plane, brute
   CHECK(noise_level < 0.011);
 }
 
-TEST_CASE("surface_noise: the upper median of the spreads of points with a normal",
+TEST_CASE("upper_median: the upper median of the values >= 0 (spreads of points with a normal)",
           "[target_normals]") {
   std::vector<double> scratch;
-  CHECK(ppcr::detail::surface_noise({}, &scratch) == 0.0);
-  CHECK(ppcr::detail::surface_noise({-1.0, -1.0}, &scratch) == 0.0);
-  CHECK(ppcr::detail::surface_noise({0.3, -1.0, 0.1, 0.2}, &scratch) == 0.2);
-  CHECK(ppcr::detail::surface_noise({0.4, 0.1, -1.0, 0.3, 0.2}, &scratch) == 0.3);
+  CHECK(ppcr::detail::upper_median({}, &scratch) == 0.0);
+  CHECK(ppcr::detail::upper_median({-1.0, -1.0}, &scratch) == 0.0);
+  CHECK(ppcr::detail::upper_median({0.3, -1.0, 0.1, 0.2}, &scratch) == 0.2);
+  CHECK(ppcr::detail::upper_median({0.4, 0.1, -1.0, 0.3, 0.2}, &scratch) == 0.3);
   // Points without a normal report -1 and are left out.
   const PointCloud four = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                            Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0)};
