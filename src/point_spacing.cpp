@@ -10,24 +10,30 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+double nearest_nonzero_sq(const double* d2, int found) {
+  for (int m = 0; m < std::min(found, kSpacingNeighbours); ++m) {
+    if (d2[m] > 0.0) return d2[m];
+  }
+  return -1.0;
+}
+
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
-                      std::vector<double>* scratch) {
+                      const std::vector<double>* nearest_sq, std::vector<double>* scratch) {
   scratch->clear();
   if (points.size() < 2 || max_samples == 0) return 0.0;
   const std::size_t stride = std::max<std::size_t>(1, points.size() / max_samples);
-  // The point itself and up to 14 duplicates of it come first.
-  constexpr int kNeighbours = 16;
-  std::uint32_t idx[kNeighbours];
-  double d2[kNeighbours];
+  std::uint32_t idx[kSpacingNeighbours];
+  double d2[kSpacingNeighbours];
   for (std::size_t i = 0; i < points.size(); i += stride) {
-    const int found =
-        tree.radius_knn(points[i], kNeighbours, std::numeric_limits<double>::max(), idx, d2);
-    for (int m = 0; m < found; ++m) {
-      if (d2[m] > 0.0) {
-        scratch->push_back(d2[m]);
-        break;
-      }
+    double nearest = 0.0;
+    if (nearest_sq != nullptr) {
+      nearest = (*nearest_sq)[i];
+    } else {
+      const int found = tree.radius_knn(points[i], kSpacingNeighbours,
+                                        std::numeric_limits<double>::max(), idx, d2);
+      nearest = nearest_nonzero_sq(d2, found);
     }
+    if (nearest > 0.0) scratch->push_back(nearest);
   }
   if (scratch->empty()) return 0.0;
   // Upper median (a value of the data).

@@ -14,12 +14,21 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+/// Neighbours a spacing query asks for: the point itself and up to 14 duplicates of it come first.
+constexpr int kSpacingNeighbours = 16;
+
+/// The smallest non-zero of the first min(found, kSpacingNeighbours) squared distances of a k-NN
+/// query sorted ascending, or -1 when they are all 0.
+double nearest_nonzero_sq(const double* d2, int found);
+
 /// The median, over every floor(n / max_samples)-th point of `points` (tree indexes them; all
 /// points below 2 x max_samples), of the distance from a point to its nearest other point at a
 /// non-zero distance (up to 14 duplicates of it skipped). 0 when no sampled point has such a
-/// neighbour. Deterministic.
+/// neighbour. Deterministic. nearest_sq, if not null, holds every point's nearest_nonzero_sq() of
+/// a query for at least kSpacingNeighbours neighbours (compute_normals writes it): the median is
+/// then read from it, with no query of its own, to the same value.
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
-                      std::vector<double>* scratch);
+                      const std::vector<double>* nearest_sq, std::vector<double>* scratch);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

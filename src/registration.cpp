@@ -163,8 +163,18 @@ Status Registration::set_target(const PointCloud& target) {
   detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
   s = m.tree.build(m.target.centered);
   if (!s.ok()) return s;
-  std::vector<double> scratch;
-  m.target_spacing = detail::median_spacing(m.target.centered, m.tree, kSpacingSamples, &scratch);
+  // The plane model's normal fits; their neighbours also give the point spacing.
+  const bool planes = m.options.error_model == ErrorModel::kPlane;
+  const int fit_neighbours = m.options.expert.normal_neighbours;
+  std::vector<Eigen::Vector3d> normals;  // packed below, then freed
+  std::vector<double> spread, reach, nearest_sq, scratch;
+  if (planes) {
+    detail::compute_normals(m.target.centered, m.tree, fit_neighbours, m.options.num_threads,
+                            &normals, &spread, &reach, &nearest_sq);
+  }
+  const bool fits_hold_nearest = planes && fit_neighbours >= detail::kSpacingNeighbours;
+  m.target_spacing = detail::median_spacing(m.target.centered, m.tree, kSpacingSamples,
+                                            fits_hold_nearest ? &nearest_sq : nullptr, &scratch);
   m.solver = detail::in_internal_units(m.options, m.target.unit);
   if (automatic) {
     if (!(m.target_spacing > 0.0)) {
@@ -175,18 +185,13 @@ Status Registration::set_target(const PointCloud& target) {
     m.solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * m.target_spacing;
   }
   m.radius = m.solver.radius * m.target.unit;
-  const RegistrationOptions& o = m.solver;
-  if (o.error_model == ErrorModel::kPlane) {
-    std::vector<Eigen::Vector3d> normals;  // packed below, then freed
-    std::vector<double> spread, reach;
-    detail::compute_normals(m.target.centered, m.tree, o.expert.normal_neighbours, o.num_threads,
-                            &normals, &spread, &reach);
+  if (planes) {
     m.target_surface_noise = detail::upper_median(spread, &scratch);
     m.target_reach = detail::upper_median(reach, &scratch);
-    detail::pack_plane_points(m.target.centered, normals, o.expert.plane_epsilon,
+    detail::pack_plane_points(m.target.centered, normals, m.solver.expert.plane_epsilon,
                               &m.target_plane_points);
     m.plane.points = &m.target_plane_points;
-    m.plane.epsilon = o.expert.plane_epsilon;
+    m.plane.epsilon = m.solver.expert.plane_epsilon;
   }
   m.associator.set_target(&m.tree, &m.target.centered, &m.target_plane_points);
   m.has_target = true;

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "parallel.hpp"
+#include "point_spacing.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -44,10 +45,11 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread,
-                     std::vector<double>* reach) {
+                     std::vector<double>* reach, std::vector<double>* nearest_sq) {
   normals->assign(points.size(), Eigen::Vector3d::Zero());
   if (spread != nullptr) spread->assign(points.size(), -1.0);
   if (reach != nullptr) reach->assign(points.size(), -1.0);
+  if (nearest_sq != nullptr) nearest_sq->assign(points.size(), -1.0);
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   const double unbounded = std::numeric_limits<double>::max();
@@ -77,6 +79,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
       (*normals)[i] = fit.normal;
       if (spread != nullptr) (*spread)[i] = fit.spread;
       if (reach != nullptr && found > 0) (*reach)[i] = std::sqrt(d2[found - 1]);
+      if (nearest_sq != nullptr) (*nearest_sq)[i] = nearest_nonzero_sq(d2, found);
     }
   });
 }

@@ -40,9 +40,12 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// If reach is not null, reach[i] = the distance of the farthest of those neighbours (the fit's
 /// reach: about 2.5 spacings where the cloud is sampled evenly, far more along a scanner's rings,
 /// whose neighbours line up along one ring), or -1 where none was found.
+/// If nearest_sq is not null, nearest_sq[i] = nearest_nonzero_sq() of those neighbours
+/// (point_spacing.hpp: with k >= kSpacingNeighbours, what a spacing query would find).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr,
-                     std::vector<double>* reach = nullptr);
+                     std::vector<double>* reach = nullptr,
+                     std::vector<double>* nearest_sq = nullptr);
 
 /// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the
 /// spreads written by compute_normals, the cloud's surface noise; of the reaches, its typical
