@@ -199,6 +199,16 @@ TEST_CASE("one output is enough; none, or bad values, exit 2 with one line namin
   const fs::path tum = dir / "only.tum";
   REQUIRE(run(PPCR_ODOMETRY_EXE, scans + " --tum '" + tum.string() + "'", dir / "only.err") == 0);
   CHECK(read_trajectory(tum).poses.size() == 3);
+  std::ofstream(dir / "times.txt") << "100.5\n100.625\n\n100.75\n";
+  const std::string timed =
+      " --tum '" + tum.string() + "' --timestamps '" + (dir / "times.txt").string() + "'";
+  REQUIRE(run(PPCR_ODOMETRY_EXE, scans + timed, dir / "timed.err") == 0);
+  CHECK(read_trajectory(tum).times == std::vector<double>{100.5, 100.625, 100.75});
+  std::ofstream(dir / "short.txt") << "1\n2\n";
+  CHECK(run(PPCR_ODOMETRY_EXE,
+            scans + " --tum t --timestamps '" + (dir / "short.txt").string() + "'",
+            dir / "short.err") == 2);
+  CHECK(read_text(dir / "short.err").find("2 times for 3 scans") != std::string::npos);
   CHECK(run(PPCR_ODOMETRY_EXE, scans, dir / "no_output.err") == 2);
   CHECK(read_text(dir / "no_output.err").find("--kitti") != std::string::npos);
   CHECK(run(PPCR_ODOMETRY_EXE, scans + " --kitti k --method nothing", dir / "method.err") == 2);

@@ -55,9 +55,10 @@ void add_arguments(CLI::App& app, Arguments* a) {
                  "(1 = scan-to-scan)")
       ->check(CLI::Range(1, 1000))
       ->group(kSequenceGroup);
-  app.add_option("--map-voxel", a->map_voxel,
-                 "voxel leaf of the local map, cloud units (default: the target's point spacing "
-                 "that ppcr measures on the first pair; required with a peer method)")
+  app.add_option(
+         "--map-voxel", a->map_voxel,
+         "voxel leaf of the local map, cloud units (default: the target's point spacing "
+         "that ppcr measures on the first pair; a peer method with --local-map > 1 needs it)")
       ->check(CLI::PositiveNumber)
       ->group(kSequenceGroup);
   app.add_option("--method", a->method, "registration method: ppcr, or a peer of this build")
@@ -83,8 +84,8 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_flag("--quiet", a->quiet, "nothing on stderr but errors and warnings")
       ->group(kOutputGroup);
   app.add_option("--evaluate", a->evaluate,
-                 "GROUND_TRUTH ESTIMATE: print ATE RMSE and RPE of ESTIMATE (KITTI or TUM) and "
-                 "exit; no scans are registered")
+                 "GROUND_TRUTH ESTIMATE: print ATE RMSE and RPE of ESTIMATE (KITTI or TUM; poses "
+                 "paired by index over the shorter) and exit; no scans are registered")
       ->expected(2)
       ->group("Evaluation");
   app.add_option("--rpe-delta", a->rpe_delta, "RPE step, scans (default 1)")
