@@ -8,11 +8,8 @@
 # in WORK_DIR/<pid>.
 set -euo pipefail
 bench=$1 synth=$2 work=$3/$$
-
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+# shellcheck source=bench_test_common.sh
+source "$(dirname "$0")/bench_test_common.sh"
 
 # Debian's moreutils also installs a `parallel`, with other options: only GNU parallel will do.
 if ! parallel --version 2>/dev/null | grep -q "GNU parallel"; then
@@ -22,10 +19,7 @@ fi
 
 rm -rf "$work"
 mkdir -p "$work"
-# Starts up to 35 degrees off: most problems succeed, some do not (both kinds in the summary).
-"$synth" "$work/pair" --scene objects --sensor camera --beams 48 --steps 64 --problems 10 \
-  --seed 3 --max-problem-rotation 35 --max-problem-translation 0.05 > /dev/null
-problems=$work/pair/problems.txt
+problems=$(make_problems "$synth" "$work/pair")
 flags=(--radius 0.05 --source-voxel 0.005 --target-voxel 0.005 --success-translation 0.003 --quiet)
 
 # The reference: one unsharded run (text summary and CSV), and its JSON summary.
@@ -62,14 +56,6 @@ diff <(mask_csv "$work/whole.csv") <(mask_csv "$work/merged.csv") ||
   fail "the merged CSV differs from the unsharded run's"
 
 # Refusals: a clear message naming the flag or file, a non-zero status, no output written.
-expect_error() {  # expect_error STATUS MESSAGE_PART COMMAND...
-  local want=$1 part=$2 status=0
-  shift 2
-  "$@" > "$work/out.txt" 2> "$work/err.txt" || status=$?
-  [[ $status -eq $want ]] || fail "$* exited $status, expected $want: $(cat "$work/err.txt")"
-  grep -qF -- "$part" "$work/err.txt" || fail "$*: no '$part' in: $(cat "$work/err.txt")"
-  [[ ! -s $work/out.txt ]] || fail "$* printed a summary: $(cat "$work/out.txt")"
-}
 expect_error 2 "--shard 4/4: I must be in [0, N)" "$bench" "$problems" "${flags[@]}" --shard 4/4
 expect_error 1 "2 of 10 problems are in no shard (problem_index 3, 7)" \
   "$bench" --merge "$work/shard_0.csv" "$work/shard_1.csv" "$work/shard_2.csv" \
