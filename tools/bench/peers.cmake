@@ -1,15 +1,8 @@
 # peers.cmake - registration peers for ppcr_bench (included by tools/bench/CMakeLists.txt when
 # PPCR_BUILD_PEERS is ON): PCL's ICP, GICP and NDT (required; Debian: libpcl-dev) and Open3D's
-# ICP, point-to-plane ICP and GICP (when found; Debian: libopen3d-dev). Only ppcr_bench links
-# them: the core library and the other tools never see PCL or Open3D.
-
-# PCL's config looks for VTK as an optional dependency of pcl_2d (pulled in by registration), and
-# Debian's VTK 9.1 config then fails on a missing MPI::MPI_C target; registration needs no VTK, so
-# keep that search off (this directory scope only).
-set(CMAKE_DISABLE_FIND_PACKAGE_VTK ON)
-find_package(PCL 1.10 REQUIRED QUIET COMPONENTS common kdtree search registration)
-unset(CMAKE_DISABLE_FIND_PACKAGE_VTK)
-message(STATUS "ppcr_bench peers: PCL ${PCL_VERSION}")
+# ICP, point-to-plane ICP and GICP (when found; Debian: libopen3d-dev), found by
+# third_party/cmake/FindPeers.cmake. ppcr_bench and ppcr_odometry link them: the core library
+# never sees PCL or Open3D.
 
 target_sources(ppcr_bench PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/peers.cpp
@@ -25,17 +18,9 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     PROPERTIES COMPILE_OPTIONS -Wno-array-bounds)
 endif()
 
-option(PPCR_PEERS_OPEN3D "Add Open3D's methods to ppcr_bench when Open3D is found" ON)
-if(PPCR_PEERS_OPEN3D)
-  find_package(Open3D CONFIG QUIET)
-  find_package(OpenMP COMPONENTS CXX QUIET)  # the Open3D peers set OpenMP's thread count
-  if(Open3D_FOUND AND OpenMP_CXX_FOUND)
-    message(STATUS "ppcr_bench peers: Open3D ${Open3D_VERSION}")
-    target_sources(ppcr_bench PRIVATE ${CMAKE_CURRENT_LIST_DIR}/peers_open3d.cpp)
-    # Open3D::Open3D is an imported target, so its include directory is already SYSTEM.
-    target_link_libraries(ppcr_bench PRIVATE Open3D::Open3D OpenMP::OpenMP_CXX)
-    target_compile_definitions(ppcr_bench PRIVATE PPCR_HAVE_OPEN3D)
-  else()
-    message(STATUS "ppcr_bench peers: Open3D (or OpenMP) not found, Open3D methods left out")
-  endif()
+if(PPCR_PEERS_WITH_OPEN3D)
+  target_sources(ppcr_bench PRIVATE ${CMAKE_CURRENT_LIST_DIR}/peers_open3d.cpp)
+  # Open3D::Open3D is an imported target, so its include directory is already SYSTEM.
+  target_link_libraries(ppcr_bench PRIVATE Open3D::Open3D OpenMP::OpenMP_CXX)
+  target_compile_definitions(ppcr_bench PRIVATE PPCR_HAVE_OPEN3D)
 endif()
