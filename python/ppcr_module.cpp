@@ -662,7 +662,8 @@ PYBIND11_MODULE(ppcr, m) {
       .def_readonly("overlap", &Result::overlap, "the matched fraction both ways")
       .def_readonly("close_fraction", &Result::close_fraction,
                     "of the source points near the target, the fraction on its surface (within 2 "
-                    "target point spacings of its tangent plane, with the plane model)")
+                    "target point spacings of its tangent plane and the target's median normal-fit "
+                    "reach of its nearest point, with the plane model)")
       .def_readonly("quality", &Result::quality,
                     "the verdict: 'good', 'weak' (check it) or 'failed' (do not use the pose)")
       .def_readonly("quality_reason", &Result::quality_reason,

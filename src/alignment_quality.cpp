@@ -29,7 +29,10 @@ bool on_surface(const SurfaceTest& t, std::uint32_t index, const Eigen::Vector3d
   if (t.planes == nullptr || (*t.planes)[index].n.isZero()) return d_sq <= close_sq;
   const PlanePoint& q = (*t.planes)[index];
   const double along = q.n.dot(p - q.y);
-  return along * along <= close_sq && d_sq <= t.reach * t.reach;
+  // Never stricter than the point test: a reach below close_distance (few fit neighbours on a
+  // grid) does not exclude a point close_distance from y.
+  const double reach = std::max(t.reach, t.close_distance);
+  return along * along <= close_sq && d_sq <= reach * reach;
 }
 
 // Nearest point of `tree` within radius of each T * points[i], whether it is within near_sq and,

@@ -25,10 +25,11 @@ struct AlignmentQuality {
 
 /// When a source point p counts as on the target's surface, given its nearest target point y:
 /// within close_distance of y; or, when `planes` (indexed like the target) gives y a normal n,
-/// within close_distance of y's tangent plane (|n . (p - y)|) and within `reach` of y. A scanner
-/// samples along rings far apart: a right result's points lie on the target's planes but often
-/// several spacings from the nearest sample, up to about the reach of a normal fit, whose
-/// neighbours line up along a ring.
+/// within close_distance of y's tangent plane (|n . (p - y)|) and within max(reach,
+/// close_distance) of y, reach being the target's typical normal-fit reach (one value for the
+/// cloud). A scanner samples along rings far apart: a right result's points lie on the target's
+/// planes but often several spacings from the nearest sample, up to about the reach of a normal
+/// fit, whose neighbours line up along a ring.
 struct SurfaceTest {
   double close_distance = 0.0;
   const std::vector<PlanePoint>* planes = nullptr;

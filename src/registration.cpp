@@ -407,7 +407,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   const bool source_indexed =
       options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   // On the target's surface: within 2 spacings of it; with the plane model, of the nearest
-  // target point's tangent plane, that point no farther than its normal fit reached.
+  // target point's tangent plane, that point within the target's median normal-fit reach.
   const bool planes = options.error_model == ErrorModel::kPlane;
   const detail::SurfaceTest surface{kCloseSpacings * target_spacing,
                                     planes ? &target_plane_points : nullptr, target_reach};

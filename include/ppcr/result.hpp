@@ -107,9 +107,10 @@ struct RegistrationResult {
                                 // fitness when no source index exists (source normals off)
   double close_fraction = 0.0;  // of the source points within min(radius, 8 target point
                                 // spacings) of the target, the fraction on its surface: within 2
-                                // spacings of the nearest target point's tangent plane and
-                                // within its normal fit's reach (plane model), or of that point
-                                // (point model); NaN when the target has no spacing
+                                // spacings of the nearest target point's tangent plane and that
+                                // point within the target's median normal-fit reach (plane
+                                // model), or within 2 spacings of that point (point model); NaN
+                                // when the target has no spacing
   Quality quality = Quality::kFailed;  // the verdict (see Quality), set by every align()
   const char* quality_reason = "";     // why it is not kGood: one sentence, static text
   double quality_ms = 0.0;             // wall time of these measures (not part of the loop)
