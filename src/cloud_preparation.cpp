@@ -92,7 +92,7 @@ void divide_by_unit(PreparedCloud* out) {
 }  // namespace
 
 double internal_unit(double radius, double target_extent) {
-  return target_extent > 0.0 ? std::min(radius, target_extent) : radius;
+  return std::min(kMaxUnit, target_extent > 0.0 ? std::min(radius, target_extent) : radius);
 }
 
 Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,

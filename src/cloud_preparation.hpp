@@ -35,7 +35,11 @@ struct PreparedCloud {
 
 /// The internal length unit for a registration with this radius onto a target of this extent
 /// (PreparedCloud::extent): the radius, or the target's extent when that is smaller (a radius of
-/// 1e6 m on a 2 m cloud means "no radius", and must not shrink the clouds to 1e-6).
+/// 1e6 m on a 2 m cloud means "no radius", and must not shrink the clouds to 1e-6); at most
+/// kMaxUnit, so that its square, which maps costs and areas back to cloud units, is finite (a
+/// target of identical points with a radius of 1e300).
+constexpr double kMaxUnit = 1e150;
+double internal_unit(double radius, double target_extent);
 double internal_unit(double radius, double target_extent);
 
 /// Prepares `in` into *out (its buffers reused): drops non-finite points, filters, centres and
