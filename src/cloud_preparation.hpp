@@ -40,7 +40,6 @@ struct PreparedCloud {
 /// target of identical points with a radius of 1e300).
 constexpr double kMaxUnit = 1e150;
 double internal_unit(double radius, double target_extent);
-double internal_unit(double radius, double target_extent);
 
 /// Prepares `in` into *out (its buffers reused): drops non-finite points, filters, centres and
 /// divides by `unit` (> 0), or by internal_unit(radius, extent) of this very cloud when `unit`

@@ -99,6 +99,20 @@ RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
   return result;
 }
 
+// A cloud's normal fits beside the normals (target_normals.hpp): per point, the spread, the reach
+// and the nearest neighbour's squared distance.
+struct FitStatistics {
+  std::vector<double> spread, reach, nearest_sq;
+};
+
+// Their medians and the point spacing (point_spacing.hpp), internal unit; surface noise and reach
+// 0 without fits.
+struct SurfaceFits {
+  double spacing = 0.0;
+  double surface_noise = 0.0;
+  double reach = 0.0;
+};
+
 }  // namespace
 
 struct Registration::Impl {
@@ -120,12 +134,22 @@ struct Registration::Impl {
   detail::PreparedCloud source;
   detail::KdTree source_tree;
   std::vector<Eigen::Vector3d> source_normals;
+  FitStatistics source_fits;   // with source_normals, for set_target_to_source()
+  bool has_source = false;     // `source` prepared by the last align(), not yet made the target
+  bool source_fitted = false;  // source_tree, source_normals and source_fits are `source`'s
   detail::SpatialSortScratch sort_scratch;
   detail::Associator associator;
   detail::LMSolver lm;
   std::vector<double> quality_scratch;
 
   struct Run;
+  bool automatic_radius() const { return options.radius == RegistrationOptions::kAutomaticRadius; }
+  void fit_normals(const PointCloud& cloud, const detail::KdTree& index,
+                   std::vector<Eigen::Vector3d>* normals, FitStatistics* fits) const;
+  SurfaceFits summarise_fits(const PointCloud& cloud, const detail::KdTree& index, bool planes,
+                             const FitStatistics& fits);
+  Status index_target();
+  Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
   Status prepare_source(const PointCloud& cloud, RegistrationResult* result);
   detail::LMProblem problem(double step_reference, double source_extent) const;
@@ -151,50 +175,108 @@ const RegistrationOptions& Registration::options() const { return impl_->options
 
 Status Registration::set_target(const PointCloud& target) {
   Impl& m = *impl_;
-  m.has_target = false;
+  m.has_target = m.has_source = false;
   if (!m.options_status.ok()) return m.options_status;
   // An automatic radius is not known yet: the internal unit is then the target's extent.
-  const bool automatic = m.options.radius == RegistrationOptions::kAutomaticRadius;
-  Status s =
-      detail::prepare_cloud(target, m.options.target_voxel, automatic ? HUGE_VAL : m.options.radius,
-                            0.0, "target", &m.target);
+  Status s = detail::prepare_cloud(target, m.options.target_voxel,
+                                   m.automatic_radius() ? HUGE_VAL : m.options.radius, 0.0,
+                                   "target", &m.target);
   if (!s.ok()) return s;
   // Z-order: a source point's neighbours lie near each other in memory (spatial_order.hpp).
   detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
   s = m.tree.build(m.target.centered);
   if (!s.ok()) return s;
   // The plane model's normal fits; their neighbours also give the point spacing.
-  const bool planes = m.options.error_model == ErrorModel::kPlane;
-  const int fit_neighbours = m.options.expert.normal_neighbours;
-  std::vector<Eigen::Vector3d> normals;  // packed below, then freed
-  std::vector<double> spread, reach, nearest_sq, scratch;
-  if (planes) {
-    detail::compute_normals(m.target.centered, m.tree, fit_neighbours, m.options.num_threads,
-                            &normals, &spread, &reach, &nearest_sq);
+  return m.index_target();
+}
+
+Status Registration::set_target_to_source() {
+  Impl& m = *impl_;
+  if (!m.options_status.ok()) return m.options_status;
+  if (!m.has_source) {
+    return Status(StatusCode::kEmptyCloud,
+                  "set_target_to_source: no source to take: align() has not prepared one since "
+                  "the last set_target() or set_target_to_source()");
   }
-  const bool fits_hold_nearest = planes && fit_neighbours >= detail::kSpacingNeighbours;
-  m.target_spacing = detail::median_spacing(m.target.centered, m.tree, kSpacingSamples,
-                                            fits_hold_nearest ? &nearest_sq : nullptr, &scratch);
-  m.solver = detail::in_internal_units(m.options, m.target.unit);
-  if (automatic) {
-    if (!(m.target_spacing > 0.0)) {
+  if (m.options.source_voxel != m.options.target_voxel) {
+    return Status(StatusCode::kInvalidArgument,
+                  "set_target_to_source: source_voxel (" + num(m.options.source_voxel) +
+                      ") differs from target_voxel (" + num(m.options.target_voxel) +
+                      "): the source was filtered as a source; call set_target() with the cloud");
+  }
+  m.has_target = m.has_source = false;
+  // The source is filtered, centred and Z-ordered as a target would be; it keeps its unit (the
+  // previous target's: any length serves, internal_unit() only keeps numbers near 1).
+  std::swap(m.target, m.source);
+  if (!m.source_fitted) {
+    const Status s = m.tree.build(m.target.centered);
+    return s.ok() ? m.index_target() : s;
+  }
+  std::swap(m.tree, m.source_tree);
+  const bool planes = m.options.error_model == ErrorModel::kPlane;
+  return m.adopt_target(m.summarise_fits(m.target.centered, m.tree, planes, m.source_fits),
+                        m.source_normals);
+}
+
+// The target's normal fits (plane model) over its tree, then adopt_target().
+Status Registration::Impl::index_target() {
+  const bool planes = options.error_model == ErrorModel::kPlane;
+  std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
+  FitStatistics fits;
+  if (planes) fit_normals(target.centered, tree, &normals, &fits);
+  return adopt_target(summarise_fits(target.centered, tree, planes, fits), normals);
+}
+
+// The plane fit of each point of `cloud` (internal frame, `index` built over it).
+void Registration::Impl::fit_normals(const PointCloud& cloud, const detail::KdTree& index,
+                                     std::vector<Eigen::Vector3d>* normals,
+                                     FitStatistics* fits) const {
+  detail::compute_normals(cloud, index, options.expert.normal_neighbours, options.num_threads,
+                          normals, &fits->spread, &fits->reach, &fits->nearest_sq);
+}
+
+// The medians of the fits (none without `planes`) and the spacing: from the fits' neighbours when
+// they hold the nearest ones, otherwise from queries of `index`.
+SurfaceFits Registration::Impl::summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
+                                               bool planes, const FitStatistics& fits) {
+  const bool fits_hold_nearest =
+      planes && options.expert.normal_neighbours >= detail::kSpacingNeighbours;
+  SurfaceFits summary;
+  summary.spacing =
+      detail::median_spacing(cloud, index, kSpacingSamples,
+                             fits_hold_nearest ? &fits.nearest_sq : nullptr, &quality_scratch);
+  if (planes) {
+    summary.surface_noise = detail::upper_median(fits.spread, &quality_scratch);
+    summary.reach = detail::upper_median(fits.reach, &quality_scratch);
+  }
+  return summary;
+}
+
+// Makes the prepared, indexed target current: the solver's options in its unit, the radius
+// (automatic: from its spacing), the plane points from its normals.
+Status Registration::Impl::adopt_target(const SurfaceFits& fits,
+                                        const std::vector<Eigen::Vector3d>& normals) {
+  target_spacing = fits.spacing;
+  solver = detail::in_internal_units(options, target.unit);
+  if (automatic_radius()) {
+    if (!(target_spacing > 0.0)) {
       return Status(StatusCode::kInvalidArgument,
                     "radius: an automatic radius needs the target's point spacing, and its points "
                     "all coincide; give the radius");
     }
-    m.solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * m.target_spacing;
+    solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * target_spacing;
   }
-  m.radius = m.solver.radius * m.target.unit;
-  if (planes) {
-    m.target_surface_noise = detail::upper_median(spread, &scratch);
-    m.target_reach = detail::upper_median(reach, &scratch);
-    detail::pack_plane_points(m.target.centered, normals, m.solver.expert.plane_epsilon,
-                              &m.target_plane_points);
-    m.plane.points = &m.target_plane_points;
-    m.plane.epsilon = m.solver.expert.plane_epsilon;
+  radius = solver.radius * target.unit;
+  if (options.error_model == ErrorModel::kPlane) {
+    target_surface_noise = fits.surface_noise;
+    target_reach = fits.reach;
+    detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
+                              &target_plane_points);
+    plane.points = &target_plane_points;
+    plane.epsilon = solver.expert.plane_epsilon;
   }
-  m.associator.set_target(&m.tree, &m.target.centered, &m.target_plane_points);
-  m.has_target = true;
+  associator.set_target(&tree, &target.centered, &target_plane_points);
+  has_target = true;
   return Status::Ok();
 }
 
@@ -212,11 +294,13 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
+  has_source = source_fitted = false;
   Status s =
       detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   detail::spatial_sort(&source.centered, &source.points, &sort_scratch);
+  has_source = true;
   result->source_points = source.points.size();
   result->target_points = target.points.size();
   result->target_non_finite = target.dropped;
@@ -228,8 +312,9 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   if (!pair_normals) return Status::Ok();
   s = source_tree.build(source.centered);
   if (!s.ok()) return s;
-  detail::compute_normals(source.centered, source_tree, options.expert.normal_neighbours,
-                          options.num_threads, &source_normals);
+  // With the fits' statistics, so that set_target_to_source() can make this source the target.
+  fit_normals(source.centered, source_tree, &source_normals, &source_fits);
+  source_fitted = true;
   return Status::Ok();
 }
 

@@ -3,16 +3,23 @@
 // the scan and the poses of the scans before it on disk, folders are read in natural order.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "odometry/odometry.hpp"
+#include "odometry/pair_log.hpp"
+#include "odometry/pair_registrar.hpp"
+#include "odometry/scan_list.hpp"
 #include "odometry/trajectory_format.hpp"
 #include "odometry/trajectory_metrics.hpp"
+#include "odometry/trajectory_writer.hpp"
 #include "ppcr/synthetic.hpp"
 
 namespace {
@@ -71,7 +78,64 @@ double ate(const ppcr_odometry::Trajectory& truth, const ppcr_odometry::Trajecto
   return errors.ate_rmse;
 }
 
+// ppcr, counting the targets made from the previous source; with `fresh`, each target is made
+// with set_target() from the cloud instead.
+class CountingRegistrar : public ppcr_odometry::PairRegistrar {
+ public:
+  CountingRegistrar(const ppcr::RegistrationOptions& o, bool fresh)
+      : ppcr_(ppcr_odometry::make_ppcr_registrar(o)), fresh_(fresh) {}
+  std::string name() const override { return ppcr_->name(); }
+  ppcr::Status set_target(const ppcr::PointCloud& target) override {
+    return ppcr_->set_target(target);
+  }
+  ppcr::Status set_target_to_source(const ppcr::PointCloud& target) override {
+    ++reused;
+    return fresh_ ? ppcr_->set_target(target) : ppcr_->set_target_to_source(target);
+  }
+  ppcr_odometry::PairOutcome align(const ppcr::PointCloud& source,
+                                   const Eigen::Isometry3d& T_guess) override {
+    return ppcr_->align(source, T_guess);
+  }
+  int reused = 0;
+
+ private:
+  std::unique_ptr<ppcr_odometry::PairRegistrar> ppcr_;
+  bool fresh_;
+};
+
 }  // namespace
+
+TEST_CASE(
+    "scan to scan, each target is the previous source as align() prepared it: the same "
+    "trajectory as targets made from the files") {
+  const fs::path dir = case_dir("reuse");
+  make_sequence(dir, 8);
+  std::vector<std::string> scans;
+  REQUIRE(ppcr_odometry::list_scans({(dir / "seq/scans").string()}, &scans).ok());
+  REQUIRE(scans.size() == 8);
+  ppcr::RegistrationOptions o;
+  o.radius = 0.25;  // below the scans' extents: the same internal unit both ways, same bits
+  o.source_voxel = o.target_voxel = 0.05;
+  ppcr_odometry::OdometrySettings settings;
+  settings.times.assign(scans.size(), 0.0);
+  settings.quiet = true;
+  std::vector<std::string> kitti;
+  for (const bool fresh : {true, false}) {
+    CountingRegistrar registrar(o, fresh);
+    const std::string path = (dir / (fresh ? "fresh.kitti" : "reused.kitti")).string();
+    ppcr_odometry::TrajectoryWriter trajectory;
+    REQUIRE(trajectory.open(path, "").ok());
+    ppcr_odometry::PairLog log;
+    ppcr_odometry::OdometrySummary summary;
+    REQUIRE(
+        ppcr_odometry::run_odometry(scans, settings, &registrar, &trajectory, &log, &summary).ok());
+    REQUIRE(trajectory.close().ok());
+    CHECK(registrar.reused == 6);  // every target but the first pair's
+    kitti.push_back(read_text(path));
+  }
+  CHECK(kitti[0] == kitti[1]);
+  CHECK(std::count(kitti[1].begin(), kitti[1].end(), '\n') == 8);
+}
 
 TEST_CASE("the ground truth files hold the library's exact trajectory in the first scan's frame") {
   const fs::path dir = case_dir("ground_truth");

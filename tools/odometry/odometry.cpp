@@ -19,13 +19,15 @@ ppcr::Status read_scan(const std::vector<std::string>& scans, std::size_t k,
       s.code(), "scan " + std::to_string(k) + " (" + scans[k] + ") cannot be read: " + s.message());
 }
 
-// Registers `source` onto the map from `guess`; the time covers set_target and align.
-PairOutcome register_scan(PairRegistrar* registrar, const LocalMap& map,
+// Registers `source` onto the map from `guess`; the time covers set_target and align. A map that
+// is the previous scan alone was the last align()'s source.
+PairOutcome register_scan(PairRegistrar* registrar, const LocalMap& map, bool previous_source,
                           const ppcr::PointCloud& source, const Eigen::Isometry3d& guess,
                           double* time_ms) {
   const auto start = std::chrono::steady_clock::now();
   PairOutcome outcome;
-  outcome.result.status = registrar->set_target(map.cloud());
+  outcome.result.status = previous_source ? registrar->set_target_to_source(map.cloud())
+                                          : registrar->set_target(map.cloud());
   if (outcome.result.status.ok()) outcome = registrar->align(source, guess);
   *time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -68,7 +70,9 @@ ppcr::Status run_odometry(const std::vector<std::string>& scans, const OdometryS
     if (!s.ok()) break;
     double time_ms = 0.0;
     // Constant velocity: the guess for this motion is the previous one.
-    const PairOutcome outcome = register_scan(registrar, map, scan, motion, &time_ms);
+    const bool previous_source = settings.local_map == 1 && k > 1;
+    const PairOutcome outcome =
+        register_scan(registrar, map, previous_source, scan, motion, &time_ms);
     const ppcr::Status& registered = outcome.result.status;
     if (!registered.ok()) {
       s = ppcr::Status(registered.code(), "scan " + std::to_string(k) + " (" + scans[k] +

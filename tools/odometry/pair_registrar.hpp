@@ -30,6 +30,11 @@ class PairRegistrar {
   /// The target of the next align() calls (its prepared structures are kept until the next
   /// set_target). The cloud must outlive those calls.
   virtual ppcr::Status set_target(const ppcr::PointCloud& target) = 0;
+  /// The same, when target is the source of the last align() (scan-to-scan): ppcr takes over
+  /// the structures align() built for it; a peer prepares it again.
+  virtual ppcr::Status set_target_to_source(const ppcr::PointCloud& target) {
+    return set_target(target);
+  }
   /// Registers source onto the target from T_guess (source into the target's frame).
   virtual PairOutcome align(const ppcr::PointCloud& source, const Eigen::Isometry3d& T_guess) = 0;
 };

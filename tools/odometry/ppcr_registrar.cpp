@@ -1,5 +1,6 @@
-// ppcr_registrar.cpp - ppcr as the sequence's registration: one Registration, set_target per
-// target, align from the constant-velocity guess.
+// ppcr_registrar.cpp - ppcr as the sequence's registration: one Registration, a target per scan
+// (scan-to-scan: the previous source, as align() prepared it), align from the constant-velocity
+// guess.
 #include <memory>
 
 #include "odometry/pair_registrar.hpp"
@@ -13,9 +14,14 @@ class PpcrRegistrar : public PairRegistrar {
   explicit PpcrRegistrar(const ppcr::RegistrationOptions& options) : registration_(options) {}
   std::string name() const override { return "ppcr"; }
   ppcr::Status set_target(const ppcr::PointCloud& target) override {
-    // The target's filtering, index and normals are made again for each target: the public API
-    // cannot hand over the structures align() built for the previous source.
     return registration_.set_target(target);
+  }
+  ppcr::Status set_target_to_source(const ppcr::PointCloud& target) override {
+    // The source's filtering, index and normal fits serve as the target's when it was filtered
+    // alike (the same result: Registration::set_target_to_source()).
+    const ppcr::RegistrationOptions& o = registration_.options();
+    if (o.source_voxel != o.target_voxel) return registration_.set_target(target);
+    return registration_.set_target_to_source();
   }
   PairOutcome align(const ppcr::PointCloud& source, const Eigen::Isometry3d& T_guess) override {
     PairOutcome out;
