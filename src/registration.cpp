@@ -147,7 +147,7 @@ struct Registration::Impl {
   void fit_normals(const PointCloud& cloud, const detail::KdTree& index,
                    std::vector<Eigen::Vector3d>* normals, FitStatistics* fits) const;
   SurfaceFits summarise_fits(const PointCloud& cloud, const detail::KdTree& index, bool planes,
-                             const FitStatistics& fits);
+                             const FitStatistics& fits) const;
   Status index_target();
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
@@ -192,11 +192,13 @@ Status Registration::set_target(const PointCloud& target) {
 
 Status Registration::set_target_to_source() {
   Impl& m = *impl_;
+  // As with set_target(), a refusal leaves no target: align() is then refused too.
+  m.has_target = false;
   if (!m.options_status.ok()) return m.options_status;
   if (!m.has_source) {
     return Status(StatusCode::kEmptyCloud,
-                  "set_target_to_source: no source to take: align() has not prepared one since "
-                  "the last set_target() or set_target_to_source()");
+                  "set_target_to_source: no source to take: the last align() did not prepare "
+                  "one, or it was taken already (set_target() or set_target_to_source() since)");
   }
   if (m.options.source_voxel != m.options.target_voxel) {
     return Status(StatusCode::kInvalidArgument,
@@ -204,11 +206,30 @@ Status Registration::set_target_to_source() {
                       ") differs from target_voxel (" + num(m.options.target_voxel) +
                       "): the source was filtered as a source; call set_target() with the cloud");
   }
-  m.has_target = m.has_source = false;
-  // The source is filtered, centred and Z-ordered as a target would be; it keeps its unit (the
-  // previous target's: any length serves, internal_unit() only keeps numbers near 1).
+  m.has_source = false;
   std::swap(m.target, m.source);
-  if (!m.source_fitted) {
+  const bool fitted = m.source_fitted;
+  m.source_fitted = false;
+  // The source was centred, divided by the previous target's unit and Z-ordered as a target
+  // would be. Any unit serves (internal_unit() keeps the numbers near 1), so it is kept unless
+  // it is more than 2x off the cloud's own; then the target is prepared again from the filtered
+  // points (a chain of targets never drifts from its clouds' scale).
+  const double own_unit =
+      detail::internal_unit(m.automatic_radius() ? HUGE_VAL : m.options.radius, m.target.extent);
+  const double ratio = own_unit / m.target.unit;
+  if (!(ratio >= 0.5 && ratio <= 2.0)) {
+    const std::size_t dropped = m.target.dropped;
+    Status s = detail::prepare_cloud(m.target.points, 0.0,
+                                     m.automatic_radius() ? HUGE_VAL : m.options.radius, 0.0,
+                                     "target", &m.source);  // `source` is free until align()
+    if (!s.ok()) return s;
+    std::swap(m.target, m.source);
+    m.target.dropped = dropped;
+    detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
+    s = m.tree.build(m.target.centered);
+    return s.ok() ? m.index_target() : s;
+  }
+  if (!fitted) {
     const Status s = m.tree.build(m.target.centered);
     return s.ok() ? m.index_target() : s;
   }
@@ -238,16 +259,16 @@ void Registration::Impl::fit_normals(const PointCloud& cloud, const detail::KdTr
 // The medians of the fits (none without `planes`) and the spacing: from the fits' neighbours when
 // they hold the nearest ones, otherwise from queries of `index`.
 SurfaceFits Registration::Impl::summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
-                                               bool planes, const FitStatistics& fits) {
+                                               bool planes, const FitStatistics& fits) const {
   const bool fits_hold_nearest =
       planes && options.expert.normal_neighbours >= detail::kSpacingNeighbours;
+  std::vector<double> scratch;  // up to one value per point: freed, not kept
   SurfaceFits summary;
-  summary.spacing =
-      detail::median_spacing(cloud, index, kSpacingSamples,
-                             fits_hold_nearest ? &fits.nearest_sq : nullptr, &quality_scratch);
+  summary.spacing = detail::median_spacing(
+      cloud, index, kSpacingSamples, fits_hold_nearest ? &fits.nearest_sq : nullptr, &scratch);
   if (planes) {
-    summary.surface_noise = detail::upper_median(fits.spread, &quality_scratch);
-    summary.reach = detail::upper_median(fits.reach, &quality_scratch);
+    summary.surface_noise = detail::upper_median(fits.spread, &scratch);
+    summary.reach = detail::upper_median(fits.reach, &scratch);
   }
   return summary;
 }
@@ -405,6 +426,7 @@ RegistrationResult Registration::align(const PointCloud& source,
                                        const Eigen::Isometry3d& T_initial) {
   Impl& m = *impl_;
   RegistrationResult result;
+  m.has_source = m.source_fitted = false;  // until this call's source is prepared
   Status s = m.check_input(T_initial);
   if (s.ok()) s = m.prepare_source(source, &result);
   if (!s.ok()) return refused(s, T_initial, std::move(result));

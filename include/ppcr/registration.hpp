@@ -34,17 +34,19 @@ class Registration {
   const RegistrationOptions& options() const;
 
   /// Validates the options, drops non-finite points, voxel-filters and indexes the target, and
-  /// fits its normals (plane model). Kept for every align() until the next set_target().
+  /// fits its normals (plane model). Kept for every align() until the next set_target() or
+  /// set_target_to_source().
   Status set_target(const PointCloud& target);
 
   /// Makes the source of the last align() the target, as set_target() of the same cloud would,
   /// without filtering, indexing and fitting its normals again: align() has done that for it.
   /// For a sequence, where each scan is the next one's target. Needs source_voxel ==
-  /// target_voxel (kInvalidArgument otherwise) and an align() since the last set_target() or
-  /// set_target_to_source() that got as far as filtering its source (kEmptyCloud otherwise).
-  /// The target keeps the internal unit the source was prepared in (the previous target's), so
-  /// the results equal set_target()'s to the bit when that unit is the same: a given radius
-  /// smaller than both clouds' extents; otherwise within rounding.
+  /// target_voxel (kInvalidArgument otherwise) and a last align() that got as far as filtering
+  /// its source, not taken already (kEmptyCloud otherwise); a refusal leaves no target. The
+  /// target keeps the internal unit its points were prepared in (the previous target's) when
+  /// that is within 2x of its own: the results then equal set_target()'s to the bit when the
+  /// units are the same (a given radius smaller than both clouds' extents), and to rounding
+  /// otherwise.
   Status set_target_to_source();
 
   /// Registers source onto the target set last. T_initial maps source into the target frame

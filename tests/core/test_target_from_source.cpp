@@ -3,6 +3,7 @@
 // set_target(), scan after scan of a short synthetic sequence.
 #include <catch2/catch.hpp>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,44 @@ TEST_CASE("set_target_to_source: within rounding when the internal unit differs"
   }
 }
 
+TEST_CASE(
+    "set_target_to_source: a source at another scale than the last target is prepared "
+    "again in its own unit",
+    "[registration][sequence]") {
+  // The automatic radius takes the unit from each target's extent: a room-sized target, then a
+  // piece of it 0.3 m across as the next target (its own unit about 10x smaller).
+  core_test::Rng rng(10);
+  const PointCloud room = core_test::analytic_scene(rng, 20000);
+  auto piece = [&rng](const Eigen::Isometry3d& T_scan_world) {
+    const Eigen::Vector3d centre(0.3, -0.2, 0.25);  // the sphere's lower half and the floor
+    PointCloud out;
+    for (const Eigen::Vector3d& p : core_test::analytic_scene(rng, 60000)) {
+      if ((p - centre).norm() < 0.35) out.push_back(T_scan_world * p);
+    }
+    return out;
+  };
+  const Eigen::Isometry3d step = core_test::make_pose(
+      Eigen::Vector3d(0.0, 0.0, 1.0), core_test::deg2rad(2.0), Eigen::Vector3d(0.01, 0.0, 0.0));
+  const PointCloud b = piece(step.inverse());
+  const PointCloud c = piece((step * step).inverse());
+  const RegistrationOptions o;
+  ppcr::Registration reused(o);
+  REQUIRE(reused.set_target(room).ok());
+  REQUIRE(reused.align(b, step).status.ok());
+  REQUIRE(reused.set_target_to_source().ok());
+  const RegistrationResult r = reused.align(c, step);
+  ppcr::Registration fresh(o);
+  REQUIRE(fresh.set_target(b).ok());
+  const RegistrationResult f = fresh.align(c, step);
+  REQUIRE(f.status.ok());
+  REQUIRE(r.status.ok());
+  CHECK(max_difference(r.T_target_source, f.T_target_source) < 1e-12);
+  CHECK(r.target_spacing == f.target_spacing);
+  CHECK(r.radius == f.radius);
+  CHECK(r.target_points == f.target_points);
+  CHECK(r.iterations == f.iterations);
+}
+
 TEST_CASE("set_target_to_source: refusals", "[registration][sequence]") {
   const Sequence seq = make_sequence(9);
   RegistrationOptions o;
@@ -141,15 +180,27 @@ TEST_CASE("set_target_to_source: refusals", "[registration][sequence]") {
     REQUIRE(reg.set_target(seq.scans[0]).ok());
     REQUIRE(reg.align(seq.scans[1]).status.ok());
     REQUIRE(reg.set_target_to_source().ok());
-    CHECK(reg.set_target_to_source().code() == StatusCode::kEmptyCloud);
-    // The target is still the one made: align() onto it works.
     CHECK(reg.align(seq.scans[2]).status.ok());
+    REQUIRE(reg.set_target_to_source().ok());  // scan 2's turn
+    CHECK(reg.set_target_to_source().code() == StatusCode::kEmptyCloud);
   }
-  SECTION("a source that could not be prepared") {
+  SECTION("the last align() prepared no source") {
     ppcr::Registration reg(o);
     REQUIRE(reg.set_target(seq.scans[0]).ok());
-    REQUIRE_FALSE(reg.align(PointCloud()).status.ok());
+    REQUIRE(reg.align(seq.scans[1]).status.ok());  // a source to take, until...
+    SECTION("an empty source") { REQUIRE_FALSE(reg.align(PointCloud()).status.ok()); }
+    SECTION("a non-finite guess") {
+      Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+      guess(0, 3) = std::numeric_limits<double>::quiet_NaN();
+      REQUIRE_FALSE(reg.align(seq.scans[2], guess).status.ok());
+    }
     CHECK(reg.set_target_to_source().code() == StatusCode::kEmptyCloud);
+  }
+  SECTION("a refusal leaves no target") {
+    ppcr::Registration reg(o);
+    REQUIRE(reg.set_target(seq.scans[0]).ok());
+    REQUIRE(reg.set_target_to_source().code() == StatusCode::kEmptyCloud);
+    CHECK(reg.align(seq.scans[1]).status.code() == StatusCode::kEmptyCloud);
   }
   SECTION("different voxel leaves") {
     o.source_voxel = 0.02;

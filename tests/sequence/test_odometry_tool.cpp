@@ -162,13 +162,14 @@ TEST_CASE("a short room sequence registered scan to scan and to a local map trac
   const fs::path dir = case_dir("track");
   make_sequence(dir, 15);
   const ppcr_odometry::Trajectory truth = read_trajectory(dir / "seq/ground_truth_kitti.txt");
-  for (const int local_map : {1, 3}) {
+  // 0: no --local-map (ppcr's default, 5).
+  for (const int local_map : {1, 3, 5, 0}) {
     INFO("--local-map " << local_map);
     const fs::path out = dir / ("map" + std::to_string(local_map));
-    const std::string arguments = "'" + (dir / "seq/scans").string() + "' --local-map " +
-                                  std::to_string(local_map) + " --kitti '" + out.string() +
-                                  ".kitti' --tum '" + out.string() + ".tum' --pairs '" +
-                                  out.string() + ".csv'";
+    const std::string flag = local_map > 0 ? " --local-map " + std::to_string(local_map) : "";
+    const std::string arguments = "'" + (dir / "seq/scans").string() + "'" + flag + " --kitti '" +
+                                  out.string() + ".kitti' --tum '" + out.string() +
+                                  ".tum' --pairs '" + out.string() + ".csv'";
     REQUIRE(run(PPCR_ODOMETRY_EXE, arguments, out.string() + ".err") == 0);
     CHECK(read_text(out.string() + ".err").find("scans/s") != std::string::npos);
     const ppcr_odometry::Trajectory kitti = read_trajectory(out.string() + ".kitti");
@@ -182,6 +183,8 @@ TEST_CASE("a short room sequence registered scan to scan and to a local map trac
     CHECK(rows[0].rfind("scan,file,method,fitness,quality", 0) == 0);
     CHECK(rows[1].find(",ppcr,") != std::string::npos);
   }
+  CHECK(read_text(dir / "map0.kitti") == read_text(dir / "map5.kitti"));
+  CHECK(read_text(dir / "map0.kitti") != read_text(dir / "map1.kitti"));
 }
 
 TEST_CASE("the evaluation (--evaluate) prints the ATE and RPE of an estimate") {

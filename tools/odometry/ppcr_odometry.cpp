@@ -7,8 +7,9 @@
 //   ppcr_odometry --evaluate GROUND_TRUTH ESTIMATE [--rpe-delta D]
 //
 // SCAN...: cloud files in the order given, or folders (their cloud files in natural order:
-// scan_2 before scan_10). Scan k (k >= 1) is registered onto scan k-1 (or the local map of the
-// last N scans, merged in scan k-1's frame and voxel-filtered) from the constant-velocity guess
+// scan_2 before scan_10). Scan k (k >= 1) is registered onto the local map of the last N scans
+// (merged in scan k-1's frame and voxel-filtered; N = 5 by default, 1 with a peer method; with
+// N = 1, scan k-1 itself) from the constant-velocity guess
 // (the motion found between scans k-2 and k-1), and its pose T_0k = T_0(k-1) T_(k-1)k is written
 // at once, one complete line per scan, to the KITTI and TUM files; one row per pair goes to the
 // CSV. Exit 0 on success; 1 when a scan cannot be read or registered (the message names it; the
@@ -42,7 +43,7 @@ struct Arguments {
   std::vector<std::string> inputs;
   std::string kitti, tum, pairs, timestamps, method = "ppcr";
   std::vector<std::string> evaluate;
-  int local_map = 1, rpe_delta = 1;
+  int local_map = 0, rpe_delta = 1;  // local_map 0: not given (local_map_for())
   double map_voxel = 0.0, rate = 10.0;
   bool quiet = false;
   ppcr_tools::RegistrationFlags flags;
@@ -52,7 +53,7 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_option("SCAN", a->inputs, "scans: cloud files in order, or folders (natural order)");
   app.add_option("--local-map", a->local_map,
                  "register onto the last N registered scans merged in the previous scan's frame "
-                 "(1 = scan-to-scan)")
+                 "(1 = scan-to-scan; default 5 with ppcr, 1 with a peer method)")
       ->check(CLI::Range(1, 1000))
       ->group(kSequenceGroup);
   app.add_option(
@@ -139,6 +140,15 @@ ppcr::Status scan_times(const Arguments& a, std::size_t count, std::vector<doubl
   return ppcr::Status::Ok();
 }
 
+// Scan-to-map by default (docs/BENCHMARK.md, "Sequences": 10-15x lower ATE than scan-to-scan
+// for ppcr); a peer scan-to-scan unless asked, as its map needs --map-voxel (ppcr measures the
+// point spacing for the leaf).
+constexpr int kDefaultLocalMap = 5;
+std::size_t local_map_for(const Arguments& a) {
+  if (a.local_map > 0) return static_cast<std::size_t>(a.local_map);
+  return a.method == "ppcr" ? kDefaultLocalMap : 1;
+}
+
 // The method of --method, with its options; the message names the flag at fault.
 ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions& options,
                             std::unique_ptr<ppcr_odometry::PairRegistrar>* registrar) {
@@ -151,7 +161,7 @@ ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions&
         ppcr::StatusCode::kInvalidArgument,
         "--method " + a.method + " needs --radius (only ppcr has an automatic one)");
   }
-  if (a.local_map > 1 && !(a.map_voxel > 0.0)) {
+  if (local_map_for(a) > 1 && !(a.map_voxel > 0.0)) {
     return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
                         "--method " + a.method + " with --local-map " +
                             std::to_string(a.local_map) + " needs --map-voxel");
@@ -167,7 +177,7 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
   if (scans.size() < 2)
     return fail(2, "a sequence needs at least 2 scans; got " + std::to_string(scans.size()));
   ppcr_odometry::OdometrySettings settings;
-  settings.local_map = static_cast<std::size_t>(a.local_map);
+  settings.local_map = local_map_for(a);
   settings.map_voxel = a.map_voxel;
   settings.quiet = a.quiet;
   s = scan_times(a, scans.size(), &settings.times);
