@@ -134,7 +134,7 @@ struct Registration::Impl {
   detail::PreparedCloud source;
   detail::KdTree source_tree;
   std::vector<Eigen::Vector3d> source_normals;
-  FitStatistics source_fits;   // with source_normals, for set_target_to_source()
+  SurfaceFits source_fits;     // with source_normals, for set_target_to_source()
   bool has_source = false;     // `source` prepared by the last align(), not yet made the target
   bool source_fitted = false;  // source_tree, source_normals and source_fits are `source`'s
   detail::SpatialSortScratch sort_scratch;
@@ -234,9 +234,7 @@ Status Registration::set_target_to_source() {
     return s.ok() ? m.index_target() : s;
   }
   std::swap(m.tree, m.source_tree);
-  const bool planes = m.options.error_model == ErrorModel::kPlane;
-  return m.adopt_target(m.summarise_fits(m.target.centered, m.tree, planes, m.source_fits),
-                        m.source_normals);
+  return m.adopt_target(m.source_fits, m.source_normals);
 }
 
 // The target's normal fits (plane model) over its tree, then adopt_target().
@@ -333,8 +331,11 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   if (!pair_normals) return Status::Ok();
   s = source_tree.build(source.centered);
   if (!s.ok()) return s;
-  // With the fits' statistics, so that set_target_to_source() can make this source the target.
-  fit_normals(source.centered, source_tree, &source_normals, &source_fits);
+  // And the fits' medians (two partial sorts: 0.02 ms for 7k points), so that
+  // set_target_to_source() can make this source the target; the per-point statistics are freed.
+  FitStatistics fits;
+  fit_normals(source.centered, source_tree, &source_normals, &fits);
+  source_fits = summarise_fits(source.centered, source_tree, true, fits);
   source_fitted = true;
   return Status::Ok();
 }
