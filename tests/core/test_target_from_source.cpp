@@ -9,6 +9,7 @@
 
 #include "core_test_util.hpp"
 #include "ppcr/registration.hpp"
+#include "result_checks.hpp"
 
 using ppcr::PointCloud;
 using ppcr::RegistrationOptions;
@@ -90,12 +91,7 @@ TEST_CASE("set_target_to_source: the same results as set_target with the same cl
       INFO("scan " << i + 1);
       const RegistrationResult& a = fresh[i];
       const RegistrationResult& b = reused[i];
-      CHECK(b.T_target_source.matrix() == a.T_target_source.matrix());
-      CHECK(b.iterations == a.iterations);
-      CHECK(b.final_cost == a.final_cost);
-      CHECK(b.fitness == a.fitness);
-      CHECK(b.close_fraction == a.close_fraction);
-      CHECK(b.quality == a.quality);
+      test_checks::check_identical(a, b);
       CHECK(b.target_points == a.target_points);
       CHECK(b.target_spacing == a.target_spacing);
       CHECK(b.target_surface_noise == a.target_surface_noise);

@@ -10,6 +10,7 @@
 
 #include "ppcr/registration.hpp"
 #include "reliability_util.hpp"
+#include "result_checks.hpp"
 
 using ppcr::ErrorModel;
 using ppcr::PointCloud;
@@ -58,28 +59,7 @@ RegistrationOptions options(ErrorModel model, int threads) {
   return o;
 }
 
-// Everything the result holds that is computed from floating-point sums, compared exactly.
-void check_identical(const RegistrationResult& a, const RegistrationResult& b) {
-  REQUIRE(a.status.ok());
-  REQUIRE(b.status.ok());
-  CHECK(a.T_target_source.matrix() == b.T_target_source.matrix());
-  CHECK(a.stop_reason == b.stop_reason);
-  CHECK(a.iterations == b.iterations);
-  CHECK(a.lm_iterations == b.lm_iterations);
-  CHECK(a.final_cost == b.final_cost);
-  CHECK(a.initial_cost == b.initial_cost);
-  CHECK(a.scale == b.scale);
-  CHECK(a.information == b.information);
-  CHECK(a.degenerate_directions == b.degenerate_directions);
-  CHECK(a.correspondences == b.correspondences);
-  REQUIRE(a.history.size() == b.history.size());
-  for (std::size_t i = 0; i < a.history.size(); ++i) {
-    INFO("history row " << i);
-    CHECK(a.history[i].T_target_source.matrix() == b.history[i].T_target_source.matrix());
-    CHECK(a.history[i].final_cost == b.history[i].final_cost);
-    CHECK(a.history[i].scale == b.history[i].scale);
-  }
-}
+using test_checks::check_identical;
 
 }  // namespace
 
