@@ -18,7 +18,10 @@
 //  - status ok: the stop reason is not invalid_input / numerical_failure; the final cost and the
 //    information matrix are finite; degenerate_directions is -1 for the point model and in
 //    [0, 6] for the plane model (when the loop ran);
-//  - status not ok: the message is not empty.
+//  - status not ok: the message is not empty;
+//  - Registration::align gives ppcr::align's pose; after set_target_to_source() the target
+//    registered onto the taken source has a finite rigid pose (a finite cost when ok), and a
+//    refused set_target_to_source() leaves no target.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -94,6 +97,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } else if (r.status.message().empty()) {
     fail("failure without a message");
+  }
+
+  // The same source made the target (set_target_to_source), the target registered onto it: the
+  // same invariants on the pose and the status, and a refusal leaves no target.
+  ppcr::Registration reg(o);
+  if (reg.set_target(in.target).ok()) {
+    const ppcr::RegistrationResult first = reg.align(in.source, in.T_initial);
+    if (first.T_target_source.matrix() != r.T_target_source.matrix()) {
+      fail("Registration::align differs from ppcr::align");
+    }
+    const ppcr::Status s = reg.set_target_to_source();
+    const Eigen::Isometry3d back =
+        in.T_initial.matrix().allFinite() ? in.T_initial.inverse() : Eigen::Isometry3d::Identity();
+    const ppcr::RegistrationResult second = reg.align(in.target, back);
+    if (!rigid(second.T_target_source)) fail("pose onto the taken source not rigid");
+    if (!s.ok() && (second.status.ok() || s.message().empty())) {
+      fail("set_target_to_source refused, yet align ran or no message");
+    }
+    if (second.status.ok() && !std::isfinite(second.final_cost)) {
+      fail("ok status onto the taken source with a non-finite final cost");
+    }
+    if (!second.status.ok() && second.status.message().empty()) fail("failure without a message");
   }
   return 0;
 }
