@@ -1364,6 +1364,47 @@ TEST_CASE("after the change to the fine phase's tolerance the inner LM evaluates
   }
 }
 
+// An open limitation, not run by default (hidden tag; docs/TERMINATION.md, "Slow creep"): on a
+// weakly constrained surface the pose creeps about 0.01 degrees per outer iteration, each moving
+// far less than the motion guard and dropping the cost by less than 1 %, so the cost-drop
+// criterion stops after about 21 iterations 0.7-0.8 degrees off where 100 fixed iterations reach
+// 0.1 degrees; the verdict cannot see it (the points lie on the surface). Fails today:
+//   ppcr_core_registration_test "[limitation]"
+TEST_CASE("cost drop on a slowly creeping pose stops near 100 fixed iterations' pose",
+          "[.][limitation]") {
+  for (std::uint64_t seed : {1u, 6u}) {
+    Rng rng(seed);
+    // A gentle bowl with a ripple along x, 2 m across: rotations about its axis and slides
+    // along it change the point-to-surface distances only a little.
+    auto bowl = [&rng](std::size_t n) {
+      PointCloud out;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double x = core_test::uniform(rng, -1.0, 1.0), y = core_test::uniform(rng, -1.0, 1.0);
+        out.emplace_back(x, y, 0.3 * (x * x + 0.5 * y * y) + 0.02 * std::sin(3.0 * x));
+      }
+      return out;
+    };
+    const PointCloud target = bowl(20000);
+    PointCloud world = bowl(5000);
+    for (Eigen::Vector3d& p : world) p.z() += 0.005 * core_test::uniform(rng, -1.0, 1.0);
+    const Eigen::Vector3d axis(core_test::uniform(rng, -1.0, 1.0),
+                               core_test::uniform(rng, -1.0, 1.0),
+                               core_test::uniform(rng, -1.0, 1.0));
+    const Eigen::Isometry3d T_true =
+        core_test::make_pose(axis, core_test::deg2rad(5.0), Eigen::Vector3d(0.05, -0.03, 0.02));
+    const PointCloud source = core_test::transformed(world, T_true.inverse());
+    RegistrationOptions o;
+    o.radius = 0.3;
+    const RegistrationResult r = ppcr::align(source, target, o);
+    o.criteria = ppcr::kCriterionFixed;
+    const RegistrationResult fixed = ppcr::align(source, target, o);
+    INFO("seed " << seed << ": " << describe(r) << "; fixed: " << describe(fixed));
+    REQUIRE(r.status.ok());
+    CHECK(core_test::angle_between_deg(r.T_target_source.linear(), fixed.T_target_source.linear()) <
+          0.2);
+  }
+}
+
 TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[registration]") {
   for (bool source_normals : {false, true}) {
     INFO("source normals " << source_normals);
