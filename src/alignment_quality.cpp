@@ -17,28 +17,38 @@ constexpr std::size_t kBlock = 1024;
 struct Sums {
   double matched = 0.0;  // counts, exact in a double up to 2^53
   double near = 0.0;     // matched within near_sq
-  double close = 0.0;    // matched within close_sq
+  double close = 0.0;    // of those, on the target's surface (SurfaceTest)
   double dist_sq = 0.0;
 };
 constexpr std::size_t kSums = 4;
 
+// SurfaceTest with its lengths squared once.
+struct SurfaceTestSq {
+  explicit SurfaceTestSq(const SurfaceTest& t)
+      : close_sq(t.close_distance * t.close_distance),
+        // Never stricter than the point test: a reach below close_distance (few fit neighbours
+        // on a grid) does not exclude a point close_distance from y.
+        reach_sq(std::max(t.reach * t.reach, close_sq)),
+        planes(t.planes) {}
+  double close_sq, reach_sq;
+  const std::vector<PlanePoint>* planes;
+};
+
 // Whether p, whose nearest target point is y = points[index] at squared distance d_sq, is on the
 // target's surface (SurfaceTest).
-bool on_surface(const SurfaceTest& t, std::uint32_t index, const Eigen::Vector3d& p, double d_sq) {
-  const double close_sq = t.close_distance * t.close_distance;
-  if (t.planes == nullptr || (*t.planes)[index].n.isZero()) return d_sq <= close_sq;
+bool on_surface(const SurfaceTestSq& t, std::uint32_t index, const Eigen::Vector3d& p,
+                double d_sq) {
+  if (t.planes == nullptr) return d_sq <= t.close_sq;
   const PlanePoint& q = (*t.planes)[index];
+  if (q.n.isZero()) return d_sq <= t.close_sq;  // y has no normal: the point test
   const double along = q.n.dot(p - q.y);
-  // Never stricter than the point test: a reach below close_distance (few fit neighbours on a
-  // grid) does not exclude a point close_distance from y.
-  const double reach = std::max(t.reach, t.close_distance);
-  return along * along <= close_sq && d_sq <= reach * reach;
+  return along * along <= t.close_sq && d_sq <= t.reach_sq;
 }
 
 // Nearest point of `tree` within radius of each T * points[i], whether it is within near_sq and,
 // if `surface` is given, whether a near point is on the surface. Summed per block, then in order.
 Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::Isometry3d& T,
-                    double radius_sq, double near_sq, const SurfaceTest* surface, int num_threads,
+                    double radius_sq, double near_sq, const SurfaceTestSq* surface, int num_threads,
                     std::vector<double>* scratch) {
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
@@ -86,8 +96,9 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
   if (source.empty() || target.empty()) return q;
   const double radius_sq = radius * radius;
   const double near_sq = near_distance * near_distance;
-  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq, &surface,
-                                num_threads, scratch);
+  const SurfaceTestSq surface_sq(surface);
+  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq,
+                                &surface_sq, num_threads, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
   q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;

@@ -26,7 +26,7 @@ double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t 
   double d2[kSpacingNeighbours];
   for (std::size_t i = 0; i < points.size(); i += stride) {
     double nearest = 0.0;
-    if (nearest_sq != nullptr) {
+    if (nearest_sq != nullptr && !nearest_sq->empty()) {
       nearest = (*nearest_sq)[i];
     } else {
       const int found = tree.radius_knn(points[i], kSpacingNeighbours,

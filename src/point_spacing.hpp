@@ -24,9 +24,9 @@ double nearest_nonzero_sq(const double* d2, int found);
 /// The median, over every floor(n / max_samples)-th point of `points` (tree indexes them; all
 /// points below 2 x max_samples), of the distance from a point to its nearest other point at a
 /// non-zero distance (up to 14 duplicates of it skipped). 0 when no sampled point has such a
-/// neighbour. Deterministic. nearest_sq, if not null, holds every point's nearest_nonzero_sq() of
-/// a query for at least kSpacingNeighbours neighbours (compute_normals writes it): the median is
-/// then read from it, with no query of its own, to the same value.
+/// neighbour. Deterministic. nearest_sq, if not null nor empty, holds every point's
+/// nearest_nonzero_sq() of a query for at least kSpacingNeighbours neighbours (compute_normals
+/// writes it): the median is then read from it, with no query of its own, to the same value.
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
                       const std::vector<double>* nearest_sq, std::vector<double>* scratch);
 

@@ -122,21 +122,21 @@ struct Registration::Impl {
   bool has_target = false;
   detail::PreparedCloud target;
   detail::KdTree tree;
-  // Plane model only: the target's points and normals, its surface noise and the normal fits'
-  // typical reach (target_normals.hpp).
+  // Plane model only: the target's points and normals.
   std::vector<detail::PlanePoint> target_plane_points;
-  double target_surface_noise = 0.0;
-  double target_reach = 0.0;
-  double target_spacing = 0.0;  // point_spacing.hpp, internal unit
-  double radius = 0.0;          // the radius used, cloud units (the user's, or automatic)
+  // The target's spacing, and with the plane model its surface noise and the normal fits' typical
+  // reach (target_normals.hpp); internal unit.
+  SurfaceFits target_fits;
+  double radius = 0.0;  // the radius used, cloud units (the user's, or automatic)
   detail::PlaneModel plane;
   // Per source; kept between calls so same-size registrations reuse the buffers.
   detail::PreparedCloud source;
   detail::KdTree source_tree;
   std::vector<Eigen::Vector3d> source_normals;
-  SurfaceFits source_fits;     // with source_normals, for set_target_to_source()
-  bool has_source = false;     // `source` prepared by the last align(), not yet made the target
-  bool source_fitted = false;  // source_tree, source_normals and source_fits are `source`'s
+  SurfaceFits source_fits;  // with pair_normals(), for set_target_to_source()
+  // `source` (with pair_normals(): source_tree, source_normals, source_fits) prepared in full by
+  // the last align(), not yet made the target.
+  bool has_source = false;
   detail::SpatialSortScratch sort_scratch;
   detail::Associator associator;
   detail::LMSolver lm;
@@ -144,10 +144,18 @@ struct Registration::Impl {
 
   struct Run;
   bool automatic_radius() const { return options.radius == RegistrationOptions::kAutomaticRadius; }
+  // The radius a target's internal unit is taken from: an automatic one is not known before the
+  // target's spacing, so the unit is then the target's extent.
+  double unit_radius() const { return automatic_radius() ? HUGE_VAL : options.radius; }
+  // Plane model with source normals: pairs use both clouds' normals (pair_normals.hpp).
+  bool pair_normals() const {
+    return options.error_model == ErrorModel::kPlane && options.expert.source_normals;
+  }
   void fit_normals(const PointCloud& cloud, const detail::KdTree& index,
                    std::vector<Eigen::Vector3d>* normals, FitStatistics* fits) const;
-  SurfaceFits summarise_fits(const PointCloud& cloud, const detail::KdTree& index, bool planes,
+  SurfaceFits summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
                              const FitStatistics& fits) const;
+  Status make_target(const PointCloud& cloud, double voxel);
   Status index_target();
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
@@ -177,17 +185,7 @@ Status Registration::set_target(const PointCloud& target) {
   Impl& m = *impl_;
   m.has_target = m.has_source = false;
   if (!m.options_status.ok()) return m.options_status;
-  // An automatic radius is not known yet: the internal unit is then the target's extent.
-  Status s = detail::prepare_cloud(target, m.options.target_voxel,
-                                   m.automatic_radius() ? HUGE_VAL : m.options.radius, 0.0,
-                                   "target", &m.target);
-  if (!s.ok()) return s;
-  // Z-order: a source point's neighbours lie near each other in memory (spatial_order.hpp).
-  detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
-  s = m.tree.build(m.target.centered);
-  if (!s.ok()) return s;
-  // The plane model's normal fits; their neighbours also give the point spacing.
-  return m.index_target();
+  return m.make_target(target, m.options.target_voxel);
 }
 
 Status Registration::set_target_to_source() {
@@ -207,43 +205,40 @@ Status Registration::set_target_to_source() {
                       "): the source was filtered as a source; call set_target() with the cloud");
   }
   m.has_source = false;
-  std::swap(m.target, m.source);
-  const bool fitted = m.source_fitted;
-  m.source_fitted = false;
   // The source was centred, divided by the previous target's unit and Z-ordered as a target
   // would be. Any unit serves (internal_unit() keeps the numbers near 1), so it is kept unless
   // it is more than 2x off the cloud's own; then the target is prepared again from the filtered
   // points (a chain of targets never drifts from its clouds' scale).
-  const double own_unit =
-      detail::internal_unit(m.automatic_radius() ? HUGE_VAL : m.options.radius, m.target.extent);
-  const double ratio = own_unit / m.target.unit;
+  const double ratio = detail::internal_unit(m.unit_radius(), m.source.extent) / m.source.unit;
   if (!(ratio >= 0.5 && ratio <= 2.0)) {
-    const std::size_t dropped = m.target.dropped;
-    Status s = detail::prepare_cloud(m.target.points, 0.0,
-                                     m.automatic_radius() ? HUGE_VAL : m.options.radius, 0.0,
-                                     "target", &m.source);  // `source` is free until align()
-    if (!s.ok()) return s;
-    std::swap(m.target, m.source);
-    m.target.dropped = dropped;
-    detail::spatial_sort(&m.target.centered, nullptr, &m.sort_scratch);
-    s = m.tree.build(m.target.centered);
-    return s.ok() ? m.index_target() : s;
+    const Status s = m.make_target(m.source.points, 0.0);  // already filtered
+    m.target.dropped = m.source.dropped;
+    return s;
   }
-  if (!fitted) {
-    const Status s = m.tree.build(m.target.centered);
-    return s.ok() ? m.index_target() : s;
-  }
+  std::swap(m.target, m.source);
+  if (!m.pair_normals()) return m.index_target();  // align() fitted no source normals
   std::swap(m.tree, m.source_tree);
   return m.adopt_target(m.source_fits, m.source_normals);
 }
 
-// The target's normal fits (plane model) over its tree, then adopt_target().
+// Prepares `cloud` as the target: filtered, centred in its own unit, Z-ordered (a source point's
+// neighbours then lie near each other in memory: spatial_order.hpp), then index_target().
+Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
+  const Status s = detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &target);
+  if (!s.ok()) return s;
+  detail::spatial_sort(&target.centered, nullptr, &sort_scratch);
+  return index_target();
+}
+
+// The prepared, Z-ordered target's tree and (plane model) normal fits, then adopt_target().
 Status Registration::Impl::index_target() {
+  const Status s = tree.build(target.centered);
+  if (!s.ok()) return s;
   const bool planes = options.error_model == ErrorModel::kPlane;
   std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
   FitStatistics fits;
   if (planes) fit_normals(target.centered, tree, &normals, &fits);
-  return adopt_target(summarise_fits(target.centered, tree, planes, fits), normals);
+  return adopt_target(summarise_fits(target.centered, tree, fits), normals);
 }
 
 // The plane fit of each point of `cloud` (internal frame, `index` built over it).
@@ -254,20 +249,16 @@ void Registration::Impl::fit_normals(const PointCloud& cloud, const detail::KdTr
                           normals, &fits->spread, &fits->reach, &fits->nearest_sq);
 }
 
-// The medians of the fits (none without `planes`) and the spacing: from the fits' neighbours when
-// they hold the nearest ones, otherwise from queries of `index`.
+// The medians of the fits (0 without them) and the spacing: from the fits' nearest neighbours
+// when compute_normals kept them, otherwise from queries of `index`.
 SurfaceFits Registration::Impl::summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
-                                               bool planes, const FitStatistics& fits) const {
-  const bool fits_hold_nearest =
-      planes && options.expert.normal_neighbours >= detail::kSpacingNeighbours;
+                                               const FitStatistics& fits) const {
   std::vector<double> scratch;  // up to one value per point: freed, not kept
   SurfaceFits summary;
-  summary.spacing = detail::median_spacing(
-      cloud, index, kSpacingSamples, fits_hold_nearest ? &fits.nearest_sq : nullptr, &scratch);
-  if (planes) {
-    summary.surface_noise = detail::upper_median(fits.spread, &scratch);
-    summary.reach = detail::upper_median(fits.reach, &scratch);
-  }
+  summary.spacing =
+      detail::median_spacing(cloud, index, kSpacingSamples, &fits.nearest_sq, &scratch);
+  summary.surface_noise = detail::upper_median(fits.spread, &scratch);
+  summary.reach = detail::upper_median(fits.reach, &scratch);
   return summary;
 }
 
@@ -275,20 +266,18 @@ SurfaceFits Registration::Impl::summarise_fits(const PointCloud& cloud, const de
 // (automatic: from its spacing), the plane points from its normals.
 Status Registration::Impl::adopt_target(const SurfaceFits& fits,
                                         const std::vector<Eigen::Vector3d>& normals) {
-  target_spacing = fits.spacing;
+  target_fits = fits;
   solver = detail::in_internal_units(options, target.unit);
   if (automatic_radius()) {
-    if (!(target_spacing > 0.0)) {
+    if (!(fits.spacing > 0.0)) {
       return Status(StatusCode::kInvalidArgument,
                     "radius: an automatic radius needs the target's point spacing, and its points "
                     "all coincide; give the radius");
     }
-    solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * target_spacing;
+    solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * fits.spacing;
   }
   radius = solver.radius * target.unit;
   if (options.error_model == ErrorModel::kPlane) {
-    target_surface_noise = fits.surface_noise;
-    target_reach = fits.reach;
     detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
                               &target_plane_points);
     plane.points = &target_plane_points;
@@ -313,30 +302,29 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
-  has_source = source_fitted = false;
   Status s =
       detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   detail::spatial_sort(&source.centered, &source.points, &sort_scratch);
-  has_source = true;
   result->source_points = source.points.size();
   result->target_points = target.points.size();
   result->target_non_finite = target.dropped;
-  result->target_surface_noise = target.unit * target_surface_noise;
-  result->target_spacing = target.unit * target_spacing;
+  result->target_surface_noise = target.unit * target_fits.surface_noise;
+  result->target_spacing = target.unit * target_fits.spacing;
   result->radius = radius;
-  const bool pair_normals =
-      options.error_model == ErrorModel::kPlane && options.expert.source_normals;
-  if (!pair_normals) return Status::Ok();
+  if (!pair_normals()) {
+    has_source = true;
+    return Status::Ok();
+  }
   s = source_tree.build(source.centered);
   if (!s.ok()) return s;
-  // And the fits' medians (two partial sorts: 0.02 ms for 7k points), so that
-  // set_target_to_source() can make this source the target; the per-point statistics are freed.
+  // And the fits' medians (two partial sorts), so that set_target_to_source() can make this
+  // source the target; the per-point statistics are freed, not kept for a call that may not come.
   FitStatistics fits;
   fit_normals(source.centered, source_tree, &source_normals, &fits);
-  source_fits = summarise_fits(source.centered, source_tree, true, fits);
-  source_fitted = true;
+  source_fits = summarise_fits(source.centered, source_tree, fits);
+  has_source = true;
   return Status::Ok();
 }
 
@@ -377,10 +365,9 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   const double source_extent = std::sqrt(extent_sq);
   const double reference_length = std::min(o.radius, source_extent);
   const std::size_t n = source.points.size();
-  const bool pair_normals = o.error_model == ErrorModel::kPlane && o.expert.source_normals;
   const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
                                               detail::coarse_stride(o, n), o.num_threads};
-  associator.prepare(settings, source.centered, pair_normals ? &source_normals : nullptr);
+  associator.prepare(settings, source.centered, pair_normals() ? &source_normals : nullptr);
   plane.pair_normals = associator.pair_normals();
   lm.resize(n, o.max_neighbours);
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
@@ -392,7 +379,8 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
       reference_length,
       moments,
       TerminationMonitor(detail::termination_criteria(o), moments, frame.internal(T_initial)),
-      detail::ScaleSchedule(detail::schedule_options(o, target_surface_noise), reference_length),
+      detail::ScaleSchedule(detail::schedule_options(o, target_fits.surface_noise),
+                            reference_length),
       problem(reference_length, source_extent),
       coarse_lm,
       detail::fine_function_tolerance(o),
@@ -414,7 +402,7 @@ LMSummary Registration::Impl::solve(Run* run, bool coarse, Eigen::Isometry3d* T)
 }
 
 Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
-  const bool automatic = options.radius == RegistrationOptions::kAutomaticRadius;
+  const bool automatic = automatic_radius();
   return Status(StatusCode::kNoCorrespondences,
                 "no source point has a target point within radius " + num(radius) +
                     (automatic ? " (automatic: give a radius that covers the misalignment)" : "") +
@@ -427,7 +415,7 @@ RegistrationResult Registration::align(const PointCloud& source,
                                        const Eigen::Isometry3d& T_initial) {
   Impl& m = *impl_;
   RegistrationResult result;
-  m.has_source = m.source_fitted = false;  // until this call's source is prepared
+  m.has_source = false;  // until this call's source is prepared
   Status s = m.check_input(T_initial);
   if (s.ok()) s = m.prepare_source(source, &result);
   if (!s.ok()) return refused(s, T_initial, std::move(result));
@@ -512,23 +500,22 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   if (result->iterations == 0) return;
   result->information = run.frame.information(lm.last().H);
   const Clock::time_point start = Clock::now();
-  const bool source_indexed =
-      options.error_model == ErrorModel::kPlane && options.expert.source_normals;
   // On the target's surface: within 2 spacings of it; with the plane model, of the nearest
   // target point's tangent plane, that point within the target's median normal-fit reach.
   const bool planes = options.error_model == ErrorModel::kPlane;
-  const detail::SurfaceTest surface{kCloseSpacings * target_spacing,
-                                    planes ? &target_plane_points : nullptr, target_reach};
+  const double spacing = target_fits.spacing;
+  const detail::SurfaceTest surface{kCloseSpacings * spacing,
+                                    planes ? &target_plane_points : nullptr, target_fits.reach};
   const detail::AlignmentQuality q = detail::measure_alignment(
-      tree, target.centered, source.centered, source_indexed ? &source_tree : nullptr, T,
-      solver.radius, std::min(solver.radius, kNearSpacings * target_spacing), surface,
-      options.num_threads, &quality_scratch);
+      tree, target.centered, source.centered, pair_normals() ? &source_tree : nullptr, T,
+      solver.radius, std::min(solver.radius, kNearSpacings * spacing), surface, options.num_threads,
+      &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);
   result->overlap = q.overlap;
   // Without a spacing (a target of duplicated points) there is no surface to be close to.
   result->close_fraction =
-      target_spacing > 0.0 ? q.close_fraction : std::numeric_limits<double>::quiet_NaN();
+      spacing > 0.0 ? q.close_fraction : std::numeric_limits<double>::quiet_NaN();
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (options.error_model != ErrorModel::kPlane) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(

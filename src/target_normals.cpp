@@ -49,9 +49,14 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   normals->assign(points.size(), Eigen::Vector3d::Zero());
   if (spread != nullptr) spread->assign(points.size(), -1.0);
   if (reach != nullptr) reach->assign(points.size(), -1.0);
-  if (nearest_sq != nullptr) nearest_sq->assign(points.size(), -1.0);
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
+  // Fewer neighbours than a spacing query asks for may miss the nearest non-duplicate: none kept.
+  if (nearest_sq != nullptr && k < kSpacingNeighbours) {
+    nearest_sq->clear();
+    nearest_sq = nullptr;
+  }
+  if (nearest_sq != nullptr) nearest_sq->assign(points.size(), -1.0);
   const double unbounded = std::numeric_limits<double>::max();
   // Points in the tree's leaf order: consecutive queries reach the same first leaf.
   const std::vector<std::uint32_t>& order = tree.leaf_order();

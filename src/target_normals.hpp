@@ -41,7 +41,8 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// reach: about 2.5 spacings where the cloud is sampled evenly, far more along a scanner's rings,
 /// whose neighbours line up along one ring), or -1 where none was found.
 /// If nearest_sq is not null, nearest_sq[i] = nearest_nonzero_sq() of those neighbours
-/// (point_spacing.hpp: with k >= kSpacingNeighbours, what a spacing query would find).
+/// (point_spacing.hpp: what a spacing query would find) when k >= kSpacingNeighbours; with fewer
+/// neighbours nearest_sq is left empty (they may not reach past a point's duplicates).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
                      std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr,
                      std::vector<double>* reach = nullptr,

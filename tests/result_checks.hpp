@@ -8,8 +8,8 @@
 
 namespace test_checks {
 
-/// Everything a result holds that is computed from floating-point sums, compared exactly (the
-/// differential and determinism tests: the same computation by two paths).
+/// The result's pose, costs, counts, scale, information, quality measures and history, compared
+/// exactly (the differential and determinism tests: the same computation by two paths).
 inline void check_identical(const ppcr::RegistrationResult& a, const ppcr::RegistrationResult& b) {
   REQUIRE(a.status.ok());
   REQUIRE(b.status.ok());
@@ -17,13 +17,21 @@ inline void check_identical(const ppcr::RegistrationResult& a, const ppcr::Regis
   CHECK(a.stop_reason == b.stop_reason);
   CHECK(a.iterations == b.iterations);
   CHECK(a.lm_iterations == b.lm_iterations);
+  CHECK(a.lm_successful_steps == b.lm_successful_steps);
   CHECK(a.final_cost == b.final_cost);
   CHECK(a.initial_cost == b.initial_cost);
   CHECK(a.scale == b.scale);
   CHECK(a.information == b.information);
   CHECK(a.degenerate_directions == b.degenerate_directions);
   CHECK(a.correspondences == b.correspondences);
+  CHECK(a.source_points == b.source_points);
+  CHECK(a.target_points == b.target_points);
+  CHECK(a.radius == b.radius);
+  CHECK(a.target_spacing == b.target_spacing);
+  CHECK(a.target_surface_noise == b.target_surface_noise);
   CHECK(a.fitness == b.fitness);
+  CHECK(a.inlier_rmse == b.inlier_rmse);
+  CHECK(a.overlap == b.overlap);
   CHECK(a.close_fraction == b.close_fraction);
   CHECK(a.quality == b.quality);
   REQUIRE(a.history.size() == b.history.size());

@@ -41,7 +41,7 @@ class Registration {
   /// Makes the source of the last align() the target, as set_target() of the same cloud would,
   /// without filtering, indexing and fitting its normals again: align() has done that for it.
   /// For a sequence, where each scan is the next one's target. Needs source_voxel ==
-  /// target_voxel (kInvalidArgument otherwise) and a last align() that got as far as filtering
+  /// target_voxel (kInvalidArgument otherwise) and a last align() that got as far as preparing
   /// its source, not taken already (kEmptyCloud otherwise); a refusal leaves no target. The
   /// target keeps the internal unit its points were prepared in (the previous target's) when
   /// that is within 2x of its own: the results then equal set_target()'s to the bit when the

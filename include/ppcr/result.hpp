@@ -108,8 +108,9 @@ struct RegistrationResult {
   double close_fraction = 0.0;  // of the source points within min(radius, 8 target point
                                 // spacings) of the target, the fraction on its surface: within 2
                                 // spacings of the nearest target point's tangent plane and that
-                                // point within the target's median normal-fit reach (plane
-                                // model), or within 2 spacings of that point (point model); NaN
+                                // point within the target's median normal-fit reach, at least 2
+                                // spacings (plane model; a point without a normal: the point
+                                // test), or within 2 spacings of that point (point model); NaN
                                 // when the target has no spacing
   Quality quality = Quality::kFailed;  // the verdict (see Quality), set by every align()
   const char* quality_reason = "";     // why it is not kGood: one sentence, static text

@@ -72,11 +72,13 @@ TEST_CASE("median_spacing from the normal fits' neighbours equals its own querie
     std::vector<double> scratch;
     const double queried = ppcr::detail::median_spacing(points, tree, 4096, nullptr, &scratch);
     REQUIRE(queried > 0.0);
-    for (int k : {ppcr::detail::kSpacingNeighbours, 20}) {
+    // Fits of fewer neighbours keep none (nearest_sq left empty): the spacing is queried.
+    for (int k : {8, ppcr::detail::kSpacingNeighbours, 20}) {
       INFO(points.size() << " points, fits of " << k);
       std::vector<Eigen::Vector3d> normals;
-      std::vector<double> nearest_sq;
+      std::vector<double> nearest_sq(3, 1.0);
       ppcr::detail::compute_normals(points, tree, k, 2, &normals, nullptr, nullptr, &nearest_sq);
+      CHECK(nearest_sq.size() == (k < ppcr::detail::kSpacingNeighbours ? 0 : points.size()));
       CHECK(ppcr::detail::median_spacing(points, tree, 4096, &nearest_sq, &scratch) == queried);
     }
   }

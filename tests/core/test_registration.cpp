@@ -1368,7 +1368,8 @@ TEST_CASE("after the change to the fine phase's tolerance the inner LM evaluates
 // weakly constrained surface the pose creeps about 0.01 degrees per outer iteration, each moving
 // far less than the motion guard and dropping the cost by less than 1 %, so the cost-drop
 // criterion stops after about 21 iterations 0.7-0.8 degrees off where 100 fixed iterations reach
-// 0.1 degrees; the verdict cannot see it (the points lie on the surface). Fails today:
+// 0.1 degrees; the verdict cannot see it (the points lie on the surface). Fails (open); the
+// INFO gives the figures of docs/TERMINATION.md:
 //   ppcr_core_registration_test "[limitation]"
 TEST_CASE("cost drop on a slowly creeping pose stops near 100 fixed iterations' pose",
           "[.][limitation]") {
@@ -1396,12 +1397,20 @@ TEST_CASE("cost drop on a slowly creeping pose stops near 100 fixed iterations' 
     RegistrationOptions o;
     o.radius = 0.3;
     const RegistrationResult r = ppcr::align(source, target, o);
+    RegistrationOptions tight = o;
+    tight.expert.lm_fine_function_tolerance = 0.0;
+    const RegistrationResult r_tight = ppcr::align(source, target, tight);
     o.criteria = ppcr::kCriterionFixed;
     const RegistrationResult fixed = ppcr::align(source, target, o);
-    INFO("seed " << seed << ": " << describe(r) << "; fixed: " << describe(fixed));
+    auto errors = [&T_true](const RegistrationResult& x) {
+      return std::to_string(rotation_error_deg(x.T_target_source, T_true)) + " deg, " +
+             std::to_string((x.T_target_source.translation() - T_true.translation()).norm()) +
+             " m, " + std::to_string(x.iterations) + " iterations, " + ppcr::to_string(x.quality);
+    };
+    INFO("seed " << seed << ": cost drop " << errors(r) << "; --lm-fine-tolerance 0 "
+                 << errors(r_tight) << "; fixed 100 " << errors(fixed));
     REQUIRE(r.status.ok());
-    CHECK(core_test::angle_between_deg(r.T_target_source.linear(), fixed.T_target_source.linear()) <
-          0.2);
+    CHECK(rotation_error_deg(r.T_target_source, fixed.T_target_source) < 0.2);
   }
 }
 

@@ -92,10 +92,6 @@ TEST_CASE("set_target_to_source: the same results as set_target with the same cl
       const RegistrationResult& a = fresh[i];
       const RegistrationResult& b = reused[i];
       test_checks::check_identical(a, b);
-      CHECK(b.target_points == a.target_points);
-      CHECK(b.target_spacing == a.target_spacing);
-      CHECK(b.target_surface_noise == a.target_surface_noise);
-      CHECK(b.radius == a.radius);
       // And right: scan i + 1 onto scan i is T_world_scan(i)^-1 T_world_scan(i + 1).
       const Eigen::Isometry3d truth = seq.T_world_scan[i].inverse() * seq.T_world_scan[i + 1];
       CHECK(core_test::angle_between_deg(b.T_target_source.linear(), truth.linear()) < 0.2);
@@ -150,13 +146,8 @@ TEST_CASE(
   ppcr::Registration fresh(o);
   REQUIRE(fresh.set_target(b).ok());
   const RegistrationResult f = fresh.align(c, step);
-  REQUIRE(f.status.ok());
-  REQUIRE(r.status.ok());
-  CHECK(max_difference(r.T_target_source, f.T_target_source) < 1e-12);
-  CHECK(r.target_spacing == f.target_spacing);
-  CHECK(r.radius == f.radius);
-  CHECK(r.target_points == f.target_points);
-  CHECK(r.iterations == f.iterations);
+  // Prepared again from its filtered points in its own unit: set_target()'s results to the bit.
+  test_checks::check_identical(f, r);
 }
 
 TEST_CASE("set_target_to_source: refusals", "[registration][sequence]") {

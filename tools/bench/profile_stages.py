@@ -41,9 +41,9 @@ RULES = [
     ("LM and outer-loop bookkeeping", r"LMSolver::solve", False),
     ("set-up (tree, preparation, spacing)", r"Registration::set_target|prepare_source"
      r"|prepare_cloud|spatial_sort|KdTree::build|median_spacing|Registration::Impl::start", False),
-    ("LM and outer-loop bookkeeping", r"align$", False),
+    # Anything else under align (the loop itself) falls back to "LM and outer-loop bookkeeping".
 ]
-STAGES = list(dict.fromkeys(r[0] for r in RULES))  # in order, once each
+STAGES = [r[0] for r in RULES]
 COMPILED = [(stage, re.compile(NS + r"(?:\w+::)*(?:" + p + ")"), specific)
             for stage, p, specific in RULES]
 ENTRY = re.compile(r"^" + NS + r"(align|Registration::set_target|Registration::align)$")

@@ -39,11 +39,16 @@ int fail(int code, const std::string& message) {
   return code;
 }
 
+// Scan-to-map by default (docs/BENCHMARK.md, "Sequences": 12-15x lower ATE than scan-to-scan
+// for ppcr); a peer scan-to-scan unless asked, as its map needs --map-voxel (ppcr measures the
+// point spacing for the leaf).
+constexpr int kDefaultLocalMap = 5;
+
 struct Arguments {
   std::vector<std::string> inputs;
   std::string kitti, tum, pairs, timestamps, method = "ppcr";
   std::vector<std::string> evaluate;
-  int local_map = 0, rpe_delta = 1;  // local_map 0: not given (local_map_for())
+  int local_map = 0, rpe_delta = 1;  // local_map 0: not given, set after parsing
   double map_voxel = 0.0, rate = 10.0;
   bool quiet = false;
   ppcr_tools::RegistrationFlags flags;
@@ -53,7 +58,8 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_option("SCAN", a->inputs, "scans: cloud files in order, or folders (natural order)");
   app.add_option("--local-map", a->local_map,
                  "register onto the last N registered scans merged in the previous scan's frame "
-                 "(1 = scan-to-scan; default 5 with ppcr, 1 with a peer method)")
+                 "(1 = scan-to-scan; default " +
+                     std::to_string(kDefaultLocalMap) + " with ppcr, 1 with a peer method)")
       ->check(CLI::Range(1, 1000))
       ->group(kSequenceGroup);
   app.add_option(
@@ -140,15 +146,6 @@ ppcr::Status scan_times(const Arguments& a, std::size_t count, std::vector<doubl
   return ppcr::Status::Ok();
 }
 
-// Scan-to-map by default (docs/BENCHMARK.md, "Sequences": 10-15x lower ATE than scan-to-scan
-// for ppcr); a peer scan-to-scan unless asked, as its map needs --map-voxel (ppcr measures the
-// point spacing for the leaf).
-constexpr int kDefaultLocalMap = 5;
-std::size_t local_map_for(const Arguments& a) {
-  if (a.local_map > 0) return static_cast<std::size_t>(a.local_map);
-  return a.method == "ppcr" ? kDefaultLocalMap : 1;
-}
-
 // The method of --method, with its options; the message names the flag at fault.
 ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions& options,
                             std::unique_ptr<ppcr_odometry::PairRegistrar>* registrar) {
@@ -161,7 +158,7 @@ ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions&
         ppcr::StatusCode::kInvalidArgument,
         "--method " + a.method + " needs --radius (only ppcr has an automatic one)");
   }
-  if (local_map_for(a) > 1 && !(a.map_voxel > 0.0)) {
+  if (a.local_map > 1 && !(a.map_voxel > 0.0)) {
     return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
                         "--method " + a.method + " with --local-map " +
                             std::to_string(a.local_map) + " needs --map-voxel");
@@ -177,7 +174,7 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
   if (scans.size() < 2)
     return fail(2, "a sequence needs at least 2 scans; got " + std::to_string(scans.size()));
   ppcr_odometry::OdometrySettings settings;
-  settings.local_map = local_map_for(a);
+  settings.local_map = static_cast<std::size_t>(a.local_map);
   settings.map_voxel = a.map_voxel;
   settings.quiet = a.quiet;
   s = scan_times(a, scans.size(), &settings.times);
@@ -228,6 +225,7 @@ int main(int argc, char** argv) {
     return fail(2, std::string(e.what()) + " (see --help)");
   }
   if (!a.evaluate.empty()) return evaluate(a);
+  if (a.local_map == 0) a.local_map = a.method == "ppcr" ? kDefaultLocalMap : 1;
   if (a.kitti.empty() && a.tum.empty()) {
     return fail(2, "no output: give --kitti and/or --tum (see --help)");
   }
