@@ -10,6 +10,13 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+double upper_median_in_place(std::vector<double>* values) {
+  if (values->empty()) return 0.0;
+  const auto middle = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
+  std::nth_element(values->begin(), middle, values->end());
+  return *middle;
+}
+
 double nearest_nonzero_sq(const double* d2, int found) {
   for (int m = 0; m < std::min(found, kSpacingNeighbours); ++m) {
     if (d2[m] > 0.0) return d2[m];
@@ -35,11 +42,7 @@ double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t 
     }
     if (nearest > 0.0) scratch->push_back(nearest);
   }
-  if (scratch->empty()) return 0.0;
-  // Upper median (a value of the data).
-  const auto middle = scratch->begin() + static_cast<std::ptrdiff_t>(scratch->size() / 2);
-  std::nth_element(scratch->begin(), middle, scratch->end());
-  return std::sqrt(*middle);
+  return std::sqrt(upper_median_in_place(scratch));
 }
 
 }  // namespace detail

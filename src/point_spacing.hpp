@@ -17,6 +17,10 @@ namespace detail {
 /// Neighbours a spacing query asks for: the point itself and up to 14 duplicates of it come first.
 constexpr int kSpacingNeighbours = 16;
 
+/// The upper median of *values (a value of the data; the median of an even count would be a
+/// mean), or 0 when there is none. Partially sorts *values in place (nth_element, O(n)).
+double upper_median_in_place(std::vector<double>* values);
+
 /// The smallest non-zero of the first min(found, kSpacingNeighbours) squared distances of a k-NN
 /// query sorted ascending, or -1 when they are all 0.
 double nearest_nonzero_sq(const double* d2, int found);

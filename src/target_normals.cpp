@@ -94,11 +94,7 @@ double upper_median(const std::vector<double>& values, std::vector<double>* scra
   for (double v : values) {
     if (v >= 0.0) scratch->push_back(v);
   }
-  if (scratch->empty()) return 0.0;
-  // Upper median (a value of the data; the median of an even count would be a mean).
-  const auto middle = scratch->begin() + static_cast<std::ptrdiff_t>(scratch->size() / 2);
-  std::nth_element(scratch->begin(), middle, scratch->end());
-  return *middle;
+  return upper_median_in_place(scratch);
 }
 
 }  // namespace detail

@@ -5,10 +5,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "ppcr/types.hpp"
@@ -60,6 +62,40 @@ inline ppcr::PointCloud transformed(const ppcr::PointCloud& cloud, const Eigen::
   out.reserve(cloud.size());
   for (const Eigen::Vector3d& p : cloud) out.push_back(T * p);
   return out;
+}
+
+/// The k points of cloud nearest to cloud[i] by brute force (itself first, unless duplicated), as
+/// (squared distance, index) in increasing order (ties by index): an independent reference for the
+/// k-d tree's queries and the normal fits. k is clamped to the cloud's size.
+inline std::vector<std::pair<double, std::size_t>> brute_force_nearest(
+    const ppcr::PointCloud& cloud, std::size_t i, std::size_t k) {
+  std::vector<std::pair<double, std::size_t>> by_distance(cloud.size());
+  for (std::size_t m = 0; m < cloud.size(); ++m) {
+    by_distance[m] = {(cloud[m] - cloud[i]).squaredNorm(), m};
+  }
+  k = std::min(k, by_distance.size());
+  const auto kth = by_distance.begin() + static_cast<std::ptrdiff_t>(k);
+  std::partial_sort(by_distance.begin(), kth, by_distance.end());
+  by_distance.erase(kth, by_distance.end());
+  return by_distance;
+}
+
+/// The upper median over points[0], points[stride], ... of the distance to the nearest other point
+/// at a non-zero distance (duplicates skipped), by brute force: the reference for median_spacing()
+/// (point_spacing.hpp). 0 when no sampled point has such a neighbour.
+inline double brute_force_spacing(const ppcr::PointCloud& points, std::size_t stride = 1) {
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size(); i += stride) {
+    double best = HUGE_VAL;
+    for (const Eigen::Vector3d& q : points) {
+      const double d = (q - points[i]).squaredNorm();
+      if (d > 0.0) best = std::min(best, d);
+    }
+    if (best < HUGE_VAL) nearest.push_back(std::sqrt(best));
+  }
+  if (nearest.empty()) return 0.0;
+  std::sort(nearest.begin(), nearest.end());
+  return nearest[nearest.size() / 2];
 }
 
 /// Uniform random points in the box [lo, hi]^3.

@@ -6,31 +6,13 @@
 #include <random>
 #include <vector>
 
+#include "core_test_util.hpp"
 #include "kdtree.hpp"
 #include "point_spacing.hpp"
 #include "target_normals.hpp"
 
+using core_test::brute_force_spacing;
 using ppcr::PointCloud;
-
-namespace {
-
-// Upper median over points[0], points[stride], ... of the distance to the nearest other point at
-// a non-zero distance.
-double brute_force(const PointCloud& points, std::size_t stride) {
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < points.size(); i += stride) {
-    double best = HUGE_VAL;
-    for (const Eigen::Vector3d& q : points) {
-      const double d = (q - points[i]).squaredNorm();
-      if (d > 0.0) best = std::min(best, d);
-    }
-    if (best < HUGE_VAL) nearest.push_back(std::sqrt(best));
-  }
-  std::sort(nearest.begin(), nearest.end());
-  return nearest[nearest.size() / 2];
-}
-
-}  // namespace
 
 TEST_CASE("median_spacing: brute force, all points and a sample; duplicates skipped",
           "[point_spacing]") {
@@ -43,10 +25,10 @@ TEST_CASE("median_spacing: brute force, all points and a sample; duplicates skip
   REQUIRE(tree.build(points).ok());
   std::vector<double> scratch;
   CHECK(ppcr::detail::median_spacing(points, tree, 4096, nullptr, &scratch) ==
-        Approx(brute_force(points, 1)).epsilon(1e-12));
+        Approx(brute_force_spacing(points, 1)).epsilon(1e-12));
   // 3300 points, 1000 samples asked: every floor(3300 / 1000) = 3rd point.
   CHECK(ppcr::detail::median_spacing(points, tree, 1000, nullptr, &scratch) ==
-        Approx(brute_force(points, 3)).epsilon(1e-12));
+        Approx(brute_force_spacing(points, 3)).epsilon(1e-12));
   // A cloud of one repeated point has no spacing.
   const PointCloud same(10, Eigen::Vector3d(1, 2, 3));
   REQUIRE(tree.build(same).ok());

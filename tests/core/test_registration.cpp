@@ -71,40 +71,16 @@ double rms_error(const PointCloud& source, const Eigen::Isometry3d& A, const Eig
   return std::sqrt(sum / static_cast<double>(source.size()));
 }
 
-// The point spacing by brute force: upper median over every point of the distance to its
-// nearest other point (RegistrationResult::target_spacing when the cloud has <= 4096 x 2).
-double brute_force_spacing(const PointCloud& cloud) {
-  std::vector<double> nearest;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    double best = HUGE_VAL;
-    for (std::size_t k = 0; k < cloud.size(); ++k) {
-      const double d = (cloud[k] - cloud[i]).squaredNorm();
-      if (k != i && d > 0.0) best = std::min(best, d);
-    }
-    nearest.push_back(std::sqrt(best));
-  }
-  std::sort(nearest.begin(), nearest.end());
-  return nearest[nearest.size() / 2];
-}
-
-// cloud's points by distance from cloud[i] (itself first).
-std::vector<std::pair<double, std::size_t>> by_distance(const PointCloud& cloud, std::size_t i) {
-  std::vector<std::pair<double, std::size_t>> sorted;
-  for (std::size_t k = 0; k < cloud.size(); ++k)
-    sorted.emplace_back((cloud[k] - cloud[i]).squaredNorm(), k);
-  std::sort(sorted.begin(), sorted.end());
-  return sorted;
-}
+using core_test::brute_force_spacing;
 
 // The upper median over the cloud of the distance to a point's `neighbours`-th nearest (itself
 // counted): the normal fits' typical reach (target_normals.hpp).
 double brute_force_reach(const PointCloud& cloud, int neighbours) {
   std::vector<double> reach;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    std::vector<double> d_sq;
-    for (const Eigen::Vector3d& y : cloud) d_sq.push_back((y - cloud[i]).squaredNorm());
-    std::nth_element(d_sq.begin(), d_sq.begin() + (neighbours - 1), d_sq.end());
-    reach.push_back(std::sqrt(d_sq[static_cast<std::size_t>(neighbours - 1)]));
+    const auto nearest =
+        core_test::brute_force_nearest(cloud, i, static_cast<std::size_t>(neighbours));
+    reach.push_back(std::sqrt(nearest.back().first));
   }
   std::nth_element(reach.begin(), reach.begin() + reach.size() / 2, reach.end());
   return reach[reach.size() / 2];
@@ -114,7 +90,8 @@ double brute_force_reach(const PointCloud& cloud, int neighbours) {
 // the smallest eigenvector of their covariance; zero where they do not spread in two directions
 // (the plane model's convention, target_normals.hpp).
 Eigen::Vector3d brute_force_normal(const PointCloud& cloud, std::size_t i, int neighbours) {
-  const std::vector<std::pair<double, std::size_t>> by_distance = ::by_distance(cloud, i);
+  const std::vector<std::pair<double, std::size_t>> by_distance =
+      core_test::brute_force_nearest(cloud, i, static_cast<std::size_t>(neighbours));
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int m = 0; m < neighbours; ++m) mean += cloud[by_distance[m].second];
   mean /= neighbours;

@@ -126,12 +126,9 @@ TEST_CASE(
   ppcr::detail::compute_normals(plane, tree, k, 2, &normals, &spread, &reach);
   REQUIRE(spread.size() == plane.size());
   REQUIRE(reach.size() == plane.size());
-  std::vector<std::pair<double, std::size_t>> by_distance(plane.size());
   for (std::size_t i = 0; i < plane.size(); ++i) {
-    for (std::size_t m = 0; m < plane.size(); ++m) {
-      by_distance[m] = {(plane[m] - plane[i]).squaredNorm(), m};
-    }
-    std::partial_sort(by_distance.begin(), by_distance.begin() + k, by_distance.end());
+    const std::vector<std::pair<double, std::size_t>> by_distance =
+        core_test::brute_force_nearest(plane, i, k);
     Eigen::MatrixXd X(k, 3);
     for (int m = 0; m < k; ++m) X.row(m) = plane[by_distance[m].second].transpose();
     const Eigen::MatrixXd centred = X.rowwise() - X.colwise().mean();

@@ -1,6 +1,6 @@
 # peers.cmake - registration peers (included by tools/bench/CMakeLists.txt when PPCR_BUILD_PEERS is
 # ON): PCL's ICP, GICP and NDT (required; Debian: libpcl-dev) and Open3D's ICP, point-to-plane ICP
-# and GICP (when found; Debian: libopen3d-dev), found by third_party/cmake/FindPeers.cmake. One
+# and GICP (when found; Debian: libopen3d-dev), found by third_party/cmake/find_peers.cmake. One
 # library, ppcr_bench_peers, that ppcr_bench and ppcr_odometry link: the core library never sees
 # PCL or Open3D.
 

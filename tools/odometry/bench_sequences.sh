@@ -39,15 +39,13 @@ for scene in room street; do
   # ppcr also with a smaller in-plane weight of its plane error (an expert setting, not the
   # default: docs/BENCHMARK.md says why).
   eps="--plane-epsilon 0.005"
-  runs=("ppcr|defaults (local map 5)|" "ppcr|defaults, --local-map 1|--local-map 1"
-    "ppcr|shared, local map|${shared[$scene]} ${map[$scene]}"
-    "ppcr|shared, scan to scan|${shared[$scene]} --local-map 1"
-    "ppcr|shared, local map, $eps|${shared[$scene]} ${map[$scene]} $eps"
-    "ppcr|shared, scan to scan, $eps|${shared[$scene]} --local-map 1 $eps")
-  for method in ${methods:-ppcr}; do
-    [ "$method" = ppcr ] && continue
-    runs+=("$method|shared, scan to scan|${shared[$scene]} --local-map 1"
-      "$method|shared, local map|${shared[$scene]} ${map[$scene]}")
+  runs=("ppcr|defaults (local map 5)|" "ppcr|defaults, --local-map 1|--local-map 1")
+  for method in ppcr ${methods//ppcr/}; do
+    for mode in "scan to scan|--local-map 1" "local map|${map[$scene]}"; do
+      label="shared, ${mode%%|*}" flags="${shared[$scene]} ${mode#*|}"
+      runs+=("$method|$label|$flags")
+      if [ "$method" = ppcr ]; then runs+=("$method|$label, $eps|$flags $eps"); fi
+    done
   done
   for run in "${runs[@]}"; do
     IFS='|' read -r method label flags <<< "$run"

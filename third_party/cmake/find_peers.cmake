@@ -1,4 +1,5 @@
-# FindPeers.cmake - the registration peers of ppcr_bench and ppcr_odometry (PPCR_BUILD_PEERS):
+# find_peers.cmake - finds the registration peers of ppcr_bench and ppcr_odometry
+# (PPCR_BUILD_PEERS; include()d, not a find module):
 # PCL's ICP, GICP and NDT (required; Debian: libpcl-dev) and Open3D's ICP, point-to-plane ICP and
 # GICP (when found, with OpenMP; Debian: libopen3d-dev). Included from the top-level CMakeLists so
 # that their imported targets are visible to every directory below it: the tools that compile the
