@@ -214,8 +214,8 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
 }
 
-// The pair normals of source normals (pair_normals.hpp): one per association slot, at every
-// association. Target and source normals from 20 neighbours; argument: source points.
+// The pair normals of source normals (pair_normals.hpp): every pair's, as one plane pass forms
+// them. Target and source normals from 20 neighbours; argument: source points.
 void BM_PairNormals(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), true);
   std::vector<Eigen::Vector3d> target_normals, source_normals;
@@ -225,10 +225,15 @@ void BM_PairNormals(benchmark::State& state) {
   ppcr::detail::compute_normals(f.source, source_tree, 20, 1, &source_normals);
   std::vector<ppcr::detail::PlanePoint> points;
   ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, &points);
-  std::vector<Eigen::Vector3d> pair_normals(f.table.index.size());
+  const std::size_t k = static_cast<std::size_t>(f.table.k);
+  std::vector<ppcr::detail::PairNormal> pair_normals(k);
   const Eigen::Matrix3d R = small_motion().linear();
   for (auto _ : state) {
-    ppcr::detail::compute_pair_normals(f.table, points, source_normals, R, 1, &pair_normals);
+    for (std::size_t j = 0; j < f.table.count.size(); ++j) {
+      ppcr::detail::pair_normals_of_point(R * source_normals[j], &f.table.index[j * k],
+                                          f.table.count[j], points.data(), pair_normals.data());
+      benchmark::DoNotOptimize(pair_normals.data());
+    }
     benchmark::ClobberMemory();
   }
   state.counters["pairs"] = static_cast<double>(f.table.pairs);

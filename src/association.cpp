@@ -10,7 +10,6 @@ namespace detail {
 void AssociationTable::resize(std::size_t source_points, int neighbours) {
   k = neighbours;
   index.resize(source_points * static_cast<std::size_t>(neighbours));
-  dist_sq.resize(source_points * static_cast<std::size_t>(neighbours));
   count.resize(source_points);
   pairs = matched = 0;
 }
@@ -32,8 +31,9 @@ void associate(const KdTree& target_tree, const PointCloud& source,
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t j) {
     const std::size_t slot = static_cast<std::size_t>(j) * static_cast<std::size_t>(k);
     const Eigen::Vector3d p = R * source[static_cast<std::size_t>(j)] + t;
+    double dist_sq[AssociationTable::kMaxNeighbours];  // the query's, not kept
     table->count[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(
-        target_tree.radius_knn(p, k, radius_sq, &table->index[slot], &table->dist_sq[slot]));
+        target_tree.radius_knn(p, k, radius_sq, &table->index[slot], dist_sq));
   });
   table->recount();
 }

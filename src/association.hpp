@@ -14,12 +14,12 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-/// Slot m < count[j] of source point j holds its m-th nearest target point within the radius:
-/// index[j * k + m] (into the target) and dist_sq[j * k + m]. Sized once by resize().
+/// Slot m < count[j] of source point j holds its m-th nearest target point within the radius,
+/// index[j * k + m] (into the target); ties in distance by index. The distances are not kept
+/// (each user computes its own residual: 8 B per slot less). Sized once by resize().
 struct AssociationTable {
   int k = 0;
   std::vector<std::uint32_t> index;
-  std::vector<double> dist_sq;
   std::vector<std::uint16_t> count;  // k <= kMaxNeighbours fits in 16 bits
   std::size_t pairs = 0;             // sum of count
   std::size_t matched = 0;           // source points with count > 0

@@ -1,17 +1,13 @@
 // associator.cpp - see associator.hpp.
 #include "associator.hpp"
 
-#include "pair_normals.hpp"
-
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-void Associator::set_target(const KdTree* tree, const PointCloud* target,
-                            const std::vector<PlanePoint>* plane_points) {
+void Associator::set_target(const KdTree* tree, const PointCloud* target) {
   tree_ = tree;
   target_ = target;
-  plane_points_ = plane_points;
 }
 
 void Associator::prepare(const Settings& settings, const PointCloud& source,
@@ -26,7 +22,6 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   // Sized for every point first, so that the coarse level's rows grow back without allocating.
   table_.resize(n, k);
   if (use_cache_) cache_.resize(n, capacity);  // also forgets the previous source's lists
-  if (source_normals_ != nullptr) pair_normals_.resize(table_.index.size());
   const std::size_t stride = settings.coarse_stride;
   use_coarse_ = stride > 1;
   coarse_associated_ = false;
@@ -65,10 +60,8 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
                       &table_);
   }
   coarse_associated_ = coarse;
-  if (source_normals_ != nullptr) {
-    compute_pair_normals(table_, *plane_points_, coarse ? coarse_normals_ : *source_normals_,
-                         T.linear(), settings_.num_threads, &pair_normals_);
-  }
+  pair_source_.normals = coarse ? &coarse_normals_ : source_normals_;
+  pair_source_.R_target_source = T.linear();
 }
 
 }  // namespace detail

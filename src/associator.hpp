@@ -8,8 +8,8 @@
 //  - a coarse level: while the EM scale is coarse, only every stride-th source point (in Z-order,
 //    so spread over the whole cloud) is associated; the first fine association spreads the
 //    coarse level's lists over every point.
-// With the plane model and source normals it also freezes each pair's normal (pair_normals.hpp)
-// at the association's rotation.
+// With the plane model and source normals it also records what each pair's normal is formed from
+// (the rows' source normals and the association's rotation: PairNormalSource, pair_normals.hpp).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -37,10 +37,8 @@ class Associator {
     int num_threads = 1;
   };
 
-  /// The target side, kept by pointer until the next call. plane_points may be null (point
-  /// model); it is needed only with source normals.
-  void set_target(const KdTree* tree, const PointCloud* target,
-                  const std::vector<PlanePoint>* plane_points);
+  /// The target side, kept by pointer until the next call.
+  void set_target(const KdTree* tree, const PointCloud* target);
 
   /// Set-up for one source (allocates; reuses buffers of an equal-size source). source_normals:
   /// one per source point, or null for no pair normals.
@@ -59,9 +57,11 @@ class Associator {
   /// The source points the table's rows refer to.
   const PointCloud& points() const { return coarse_associated_ ? coarse_points_ : *source_; }
   const AssociationTable& table() const { return table_; }
-  /// Per association slot, the pair's normal; null without source normals.
-  const std::vector<Eigen::Vector3d>* pair_normals() const {
-    return source_normals_ != nullptr ? &pair_normals_ : nullptr;
+  /// The source normals of the table's rows and the rotation of the last association, from which
+  /// the plane pass forms the pairs' normals; null without source normals. The pointer stays
+  /// valid, its contents follow each find().
+  const PairNormalSource* pair_normal_source() const {
+    return source_normals_ != nullptr ? &pair_source_ : nullptr;
   }
 
  private:
@@ -69,7 +69,6 @@ class Associator {
 
   const KdTree* tree_ = nullptr;
   const PointCloud* target_ = nullptr;
-  const std::vector<PlanePoint>* plane_points_ = nullptr;
   const PointCloud* source_ = nullptr;
   const std::vector<Eigen::Vector3d>* source_normals_ = nullptr;
   Settings settings_;
@@ -82,7 +81,7 @@ class Associator {
   std::vector<Eigen::Vector3d> coarse_normals_;
   AssociationTable table_;
   NeighbourCache cache_;
-  std::vector<Eigen::Vector3d> pair_normals_;
+  PairNormalSource pair_source_;
 };
 
 }  // namespace detail

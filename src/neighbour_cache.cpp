@@ -15,7 +15,7 @@ namespace {
 
 // Squared distances of targets idx[0..n) to p, by the k-d tree's own expression (kdtree.hpp):
 // a query's candidates come with the tree's distances, a cache hit's are computed here, alike
-// (see squared_distance), so the table's distances and tie order do not depend on the path.
+// (see squared_distance), so the rows' order, ties included, does not depend on the path.
 void distances(const PointCloud& target, const Eigen::Vector3d& p, const std::uint32_t* idx, int n,
                double* d) {
   for (int c = 0; c < n; ++c) d[c] = squared_distance(p.data(), target[idx[c]].data());
@@ -123,8 +123,8 @@ struct CallContext {
 struct PointState {
   std::size_t j = 0;
   Eigen::Vector3d p;
-  std::uint32_t* out_idx = nullptr;
-  double* out_d = nullptr;
+  std::uint32_t* out_idx = nullptr;            // the table's row
+  double out_d[NeighbourCache::kMaxCapacity];  // its squared distances at p (not kept)
   std::uint32_t* cand = nullptr;
   double margin = 0.0;  // what both certificates give up against rounding at p
   double left_out_sq = 0.0;
@@ -234,7 +234,6 @@ void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
   s.j = j;
   s.p = c.R * c.source[j] + c.t;
   s.out_idx = &c.table->index[slot];
-  s.out_d = &c.table->dist_sq[slot];
   s.cand = &cache.index[j * static_cast<std::size_t>(c.capacity)];
   // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
   // margin subtracted from rho_j when it was stored covers the rounding of either side).
@@ -288,6 +287,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
                       NeighbourCache* cache, AssociationTable* table) {
   // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
   assert(radius > 0.0);
+  assert(table->k <= cache->capacity && cache->capacity <= NeighbourCache::kMaxCapacity);
   const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
   const CallContext c{target_tree,
                       target,
@@ -354,7 +354,6 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
     cache->ranked_at[j] = cache->ranked_at[i];
     cache->set_radius_sq[j] = cache->set_radius_sq[i];
     std::copy_n(&table->index[i * k], k, &table->index[j * k]);
-    std::copy_n(&table->dist_sq[i * k], k, &table->dist_sq[j * k]);
     table->count[j] = table->count[i];
   }
   for (std::size_t j = 0; j < points; ++j) {

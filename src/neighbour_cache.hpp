@@ -21,8 +21,9 @@
 // G = min(the closest candidate left out, B_j - |p' - q_j|). For a move delta' = |p - p'| < rho_j,
 //   rho_j = min(r - m, max((G - m) / 2, G - r))  (n = k),   rho_j = min(r - m, G - r)  (n < k),
 // every neighbour stays within r, and either no outside point can overtake one (separation) or
-// none can enter the radius; so the table's set is unchanged. Its order and distances are
-// refreshed by sorting the n held entries at p (no candidate distances, no top-k selection).
+// none can enter the radius; so the table's set is unchanged. Its order is refreshed by
+// sorting the n held entries by their distances at p (no candidate distances, no top-k
+// selection).
 // Both certificates give up 1e-9 r + 1e-12 |p|_1 against rounding (D_j < B_j - delta_j - that at
 // p; rho_j - that at p', when rho_j is stored; the L1 norm bounds |p| without a square root). The
 // table row must be the one this cache's last call wrote: a call with another table, k or radius

@@ -6,6 +6,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "pair_normals.hpp"
 #include "parallel.hpp"
 #include "ppcr/se3.hpp"
 #include "weight_kernel.hpp"
@@ -91,7 +92,7 @@ namespace {
 template <bool kPlane, bool kPairNormals>
 inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
                              const PointCloud& target, const PlanePoint* points,
-                             const Eigen::Vector3d* pair_normals, double epsilon, double* r) {
+                             const PairNormal* pair_normals, double epsilon, double* r) {
   double r_min = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t m = 0; m < count; ++m) {
     double rm;
@@ -99,9 +100,10 @@ inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const 
       const PlanePoint& q = points[idx[m]];
       const Eigen::Vector3d e = q.y - p;
       if constexpr (kPairNormals) {
-        const Eigen::Vector3d& nk = pair_normals[m];
-        const double ne = nk.dot(e);
-        rm = omega_isotropic(nk, epsilon) * e.squaredNorm() + ne * ne;
+        // a |e|^2 + (n . e)^2 with n = s / |s|: a |e|^2 + q (s . e)^2.
+        const PairNormal& nk = pair_normals[m];
+        const double se = nk.s.dot(e);
+        rm = (nk.q > 0.0 ? epsilon : 1.0) * e.squaredNorm() + nk.q * (se * se);
       } else {
         const double ne = q.n.dot(e);
         rm = q.a * e.squaredNorm() + ne * ne;
@@ -151,16 +153,16 @@ inline void accumulate_plane(const Eigen::Vector3d& p, std::size_t count, const 
 }
 
 // Plane model, pair normals: a normal per slot, not per target point, so no moments; Omega_kj is
-// formed from the pair's normal n_k here. Obar = c (A I + N), N = sum_k u_k n_k n_k^T
-// (symmetric: 6 sums), ebar = c sum_k u_k (a_k e_k + n_k (n_k . e_k)). The sums are kept in
-// pairs of lanes; each lane does one sum's scalar operations in the scalar order (n . e as
-// (x + y) + z), so every sum is the same to the bit as when written one by one (our targets are
-// compiled with -ffp-contract=off: no a * b + c is fused into a multiply-add; tested with
-// -march=haswell, the fma stage of tools/test.sh). Scales w by c.
+// formed from the pair's normal n_k = s_k / |s_k| here, as q_k s_k s_k^T (PairNormal).
+// Obar = c (A I + N), N = sum_k u_k q_k s_k s_k^T (symmetric: 6 sums), ebar = c sum_k u_k (a_k
+// e_k + q_k s_k (s_k . e_k)). The sums are kept in pairs of lanes; each lane does one sum's scalar
+// operations in the scalar order (s . e as (x + y) + z), so every sum is the same to the bit as
+// when written one by one (our targets are compiled with -ffp-contract=off: no a * b + c is fused
+// into a multiply-add; tested with -march=haswell, the fma stage of tools/test.sh). Scales w by c.
 inline void accumulate_pair_normals(const Eigen::Vector3d& p, std::size_t count,
                                     const std::uint32_t* idx, const PlanePoint* points,
-                                    const Eigen::Vector3d* pair_normals, double epsilon,
-                                    const double* r, double c, double* w, BlockSums* s) {
+                                    const PairNormal* pair_normals, double epsilon, const double* r,
+                                    double c, double* w, BlockSums* s) {
   Eigen::Array2d AU = Eigen::Array2d::Zero();       // (A, U): sum u a, sum u
   Eigen::Array2d n00_n11 = Eigen::Array2d::Zero();  // (N_00, N_11)
   Eigen::Array2d n01_n12 = Eigen::Array2d::Zero();  // (N_01, N_12)
@@ -171,18 +173,19 @@ inline void accumulate_pair_normals(const Eigen::Vector3d& p, std::size_t count,
   for (std::size_t m = 0; m < count; ++m) {
     const double u = w[m];
     const PlanePoint& q = points[idx[m]];
-    const Eigen::Vector3d& nk = pair_normals[m];
-    const double ak = omega_isotropic(nk, epsilon);
-    const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.data());
-    const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.data() + 1);
-    const double nz = nk.z();
+    const PairNormal& nk = pair_normals[m];
+    const double ak = nk.q > 0.0 ? epsilon : 1.0;
+    const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.s.data());
+    const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.s.data() + 1);
+    const double nz = nk.s.z();
     const Eigen::Array2d e_xy = Eigen::Map<const Eigen::Array2d>(q.y.data()) - p_xy;
     const double ez = q.y.z() - p.z();
     const Eigen::Array2d ne_xy = n_xy * e_xy;
     const double ua = u * ak;
-    const double une = u * (ne_xy[0] + ne_xy[1] + nz * ez);  // u (n . e)
-    const Eigen::Array2d un_xy = u * n_xy;
-    const double unz = u * nz;
+    const double uq = u * nk.q;
+    const double une = uq * (ne_xy[0] + ne_xy[1] + nz * ez);  // u q (s . e)
+    const Eigen::Array2d un_xy = uq * n_xy;
+    const double unz = uq * nz;
     AU += Eigen::Array2d(ua, u);
     ur += u * r[m];
     n00_n11 += un_xy * n_xy;
@@ -236,14 +239,20 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
   const PlanePoint* points = kPlane ? plane->points->data() : nullptr;
-  // Per-slot pair normals (source normals on) replace the target points' normals.
-  // (kPairNormals: a template parameter, so that the per-pair choice is compiled out.)
-  const Eigen::Vector3d* pair_normals = kPairNormals ? plane->pair_normals->data() : nullptr;
+  // Pair normals (source normals on) replace the target points' normals: formed per point from
+  // the row's source normal (kPairNormals: a template parameter, so that the per-pair choice is
+  // compiled out).
+  const Eigen::Vector3d* source_normals =
+      kPairNormals ? plane->pair_source->normals->data() : nullptr;
+  const Eigen::Matrix3d R_pair =
+      kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    // Without r_sq, a point's squared errors live on the stack (read back within the point).
+    // Without r_sq, a point's squared errors live on the stack (read back within the point), as
+    // do its pairs' normals.
     double r_local[AssociationTable::kMaxNeighbours];
+    PairNormal normals_local[kPairNormals ? AssociationTable::kMaxNeighbours : 1];
     BlockSums s;
     s.S0 = s.cost = s.cost_prev = 0.0;
     s.S1.setZero();
@@ -260,7 +269,11 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       const std::uint32_t* idx = &assoc.index[slot];
       double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
       double* w = &w_new[slot];
-      const Eigen::Vector3d* normals = kPairNormals ? pair_normals + slot : nullptr;
+      const PairNormal* normals = nullptr;
+      if constexpr (kPairNormals) {
+        pair_normals_of_point(R_pair * source_normals[j], idx, count, points, normals_local);
+        normals = normals_local;
+      }
       const Eigen::Vector3d p = R * source[j] + t;
       const double r_min =
           squared_errors<kPlane, kPairNormals>(p, count, idx, target, points, normals, epsilon, r);
@@ -293,7 +306,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   // and the pair normals are template parameters of the pass (tags here), so that its per-pair
   // loops carry no model branches.
   const bool use_plane = plane != nullptr && plane->points != nullptr;
-  const bool use_pair_normals = use_plane && plane->pair_normals != nullptr;
+  const bool use_pair_normals = use_plane && plane->pair_source != nullptr;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
         e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);

@@ -68,15 +68,24 @@ static_assert(sizeof(PlanePoint) == 128, "PlanePoint: two cache lines");
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
                        double epsilon, std::vector<PlanePoint>* out);
 
+/// What the plane pass forms the pairs' normals from (pair_normals.hpp): the source normals of
+/// the association table's rows, one per row, and the rotation R_target_source at which the table
+/// was made (the pairs' normals are frozen there between associations).
+struct PairNormalSource {
+  const std::vector<Eigen::Vector3d>* normals = nullptr;
+  Eigen::Matrix3d R_target_source = Eigen::Matrix3d::Identity();
+};
+
 /// The plane error model's data (null = point model).
 struct PlaneModel {
   // Per target point (pack_plane_points), same order and positions as the target cloud passed
   // to evaluate().
   const std::vector<PlanePoint>* points = nullptr;
   double epsilon = 0.05;  // in-plane weight (a of the pair normals; points carry their own a)
-  // Optional, per association slot j*k+m (pair_normals.hpp): when set, the pair's normal
-  // replaces its target point's normal in Omega (fixed for the pass: not a function of T).
-  const std::vector<Eigen::Vector3d>* pair_normals = nullptr;
+  // Optional (pair_normals.hpp): when set, each pair's normal, the mean of its target point's
+  // and its source point's, replaces its target point's normal in Omega (fixed for the pass: not
+  // a function of T).
+  const PairNormalSource* pair_source = nullptr;
 };
 
 struct Evaluation {

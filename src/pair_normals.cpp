@@ -1,10 +1,7 @@
-// pair_normals.cpp - per-association normals from target and source normals (see header).
+// pair_normals.cpp - per-pair normals from target and source normals (see header).
 #include "pair_normals.hpp"
 
 #include <cmath>
-#include <cstdint>
-
-#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -21,65 +18,39 @@ T squared_length(const T& x, const T& y, const T& z) {
 
 }  // namespace
 
-void compute_pair_normals(const AssociationTable& assoc,
-                          const std::vector<PlanePoint>& target_points,
-                          const std::vector<Eigen::Vector3d>& source_normals,
-                          const Eigen::Matrix3d& R_target_source, int num_threads,
-                          std::vector<Eigen::Vector3d>* pair_normals) {
-  const std::size_t k = static_cast<std::size_t>(assoc.k);
-  Eigen::Vector3d* out = pair_normals->data();
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(assoc.count.size()), [&](std::ptrdiff_t i) {
-    const std::size_t j = static_cast<std::size_t>(i);
-    const std::size_t count = assoc.count[j];
-    if (count == 0) return;
-    const Eigen::Vector3d m = R_target_source * source_normals[j];  // zero stays zero
-    const std::size_t first = j * k;
-    const std::uint32_t* idx = &assoc.index[first];
-    if (!(m.squaredNorm() > 0.0)) {  // no source normal: the target's own
-      for (std::size_t q = 0; q < count; ++q) out[first + q] = target_points[idx[q]].n;
-      return;
+void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
+                           const PlanePoint* target_points, PairNormal* out) {
+  // s = n + sign(n . m) m; a zero m leaves n, a zero n gives 0 (q = 0 below).
+  auto axis = [&m](const Eigen::Vector3d& n) -> Eigen::Vector3d {
+    if (n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
+    return n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
+  };
+  auto inverse_sq = [](const Eigen::Vector3d& v) {
+    const double sq = squared_length(v.x(), v.y(), v.z());
+    return sq > 0.0 ? 1.0 / sq : 0.0;
+  };
+  std::size_t i = 0;
+  // Two pairs per step, their squared lengths in lanes: one division serves both. Each lane
+  // computes 1 / squared_length() as inverse_sq does, correctly rounded, so the bits are the
+  // same whatever a pair's place in its list (test_pair_normals).
+  for (; i + 2 <= count; i += 2) {
+    const Eigen::Vector3d a = axis(target_points[idx[i]].n);
+    const Eigen::Vector3d b = axis(target_points[idx[i + 1]].n);
+    const Eigen::Array2d sq = squared_length(
+        Eigen::Array2d(a.x(), b.x()), Eigen::Array2d(a.y(), b.y()), Eigen::Array2d(a.z(), b.z()));
+    if (!(sq[0] > 0.0 && sq[1] > 0.0)) {  // rare: a target point without a normal
+      out[i] = {a, inverse_sq(a)};
+      out[i + 1] = {b, inverse_sq(b)};
+      continue;
     }
-    // n + s m with s the sign of n . m.
-    auto oriented_sum = [&m](const Eigen::Vector3d& n) -> Eigen::Vector3d {
-      return n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
-    };
-    // One pair, n its target point's normal; a target point without a normal keeps 0.
-    auto one_pair = [&](std::size_t q, const Eigen::Vector3d& n, bool has_normal) {
-      if (!has_normal) {
-        out[first + q] = n;
-      } else {
-        const Eigen::Vector3d sum = oriented_sum(n);
-        out[first + q] = sum / std::sqrt(squared_length(sum.x(), sum.y(), sum.z()));
-      }
-    };
-    std::size_t q = 0;
-    // Two pairs per step, their coordinates in lanes (x0, x1), (y0, y1), (z0, z1): one square
-    // root and three divisions serve both, the cost of this function (docs/PERFORMANCE.md). Each
-    // lane computes sum / |sum| as one_pair does, squared_length() then a correctly
-    // rounded root and divisions, and our targets do not contract a * b + c into a fused
-    // multiply-add (-ffp-contract=off, CMakeLists.txt), so the bits are the same
-    // (test_pair_normals; the same as Eigen's sum / sum.norm() where Eigen 3.4 vectorises).
-    for (; q + 2 <= count; q += 2) {
-      const Eigen::Vector3d& n0 = target_points[idx[q]].n;
-      const Eigen::Vector3d& n1 = target_points[idx[q + 1]].n;
-      const bool has0 = n0.squaredNorm() != 0.0, has1 = n1.squaredNorm() != 0.0;
-      if (!(has0 && has1)) {  // rare: one at a time
-        one_pair(q, n0, has0);
-        one_pair(q + 1, n1, has1);
-        continue;
-      }
-      const Eigen::Vector3d a = oriented_sum(n0), b = oriented_sum(n1);
-      const Eigen::Array2d x(a.x(), b.x()), y(a.y(), b.y()), z(a.z(), b.z());
-      const Eigen::Array2d norm = squared_length(x, y, z).sqrt();
-      const Eigen::Array2d xn = x / norm, yn = y / norm, zn = z / norm;
-      out[first + q] = Eigen::Vector3d(xn[0], yn[0], zn[0]);
-      out[first + q + 1] = Eigen::Vector3d(xn[1], yn[1], zn[1]);
-    }
-    if (q < count) {
-      const Eigen::Vector3d& n = target_points[idx[q]].n;
-      one_pair(q, n, n.squaredNorm() != 0.0);
-    }
-  });
+    const Eigen::Array2d q = 1.0 / sq;
+    out[i] = {a, q[0]};
+    out[i + 1] = {b, q[1]};
+  }
+  if (i < count) {
+    const Eigen::Vector3d a = axis(target_points[idx[i]].n);
+    out[i] = {a, inverse_sq(a)};
+  }
 }
 
 }  // namespace detail

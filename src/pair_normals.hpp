@@ -1,11 +1,11 @@
-// pair_normals.hpp - per-association normals of the plane model with source normals
-// (PlaneOptions::source_normals, error_model.hpp).
+// pair_normals.hpp - per-pair normals of the plane model with source normals
+// (ExpertOptions::source_normals).
 #pragma once
 
 #include <Eigen/Core>
-#include <vector>
+#include <cstddef>
+#include <cstdint>
 
-#include "association.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/abi.hpp"
 
@@ -13,20 +13,25 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-/// For every association slot (j, m) of the table (stride assoc.k), the normal of the pair
-/// (target point y = assoc.index[j*k+m] with normal n_k = target_points[y].n, source point j), with
-/// R = R_target_source:
-///   n_kj = (n_k + s R m_j) / |n_k + s R m_j|,   s = +1 if n_k . R m_j >= 0, else -1,
-/// the mean of the two surfaces' normals in the target frame (s flips the source normal onto
-/// the target's side: PCA normals have no sign; |n_k + s R m_j| >= sqrt(2), never degenerate).
-/// A source point without a normal (m_j = 0) keeps n_k; a target point without one (n_k = 0)
-/// keeps 0 (Omega = I). Slots past count[j] are not written. Parallel over source points,
-/// allocation-free; pair_normals must hold assoc.index.size() entries.
-void compute_pair_normals(const AssociationTable& assoc,
-                          const std::vector<PlanePoint>& target_points,
-                          const std::vector<Eigen::Vector3d>& source_normals,
-                          const Eigen::Matrix3d& R_target_source, int num_threads,
-                          std::vector<Eigen::Vector3d>* pair_normals);
+/// A pair's normal n = s / |s| as the plane pass uses it: s and q = 1 / |s|^2 (so that
+/// n n^T = q s s^T and (n . e)^2 = q (s . e)^2: one division, no square root); s = 0 and q = 0
+/// for a pair without a normal (Omega = I).
+struct PairNormal {
+  Eigen::Vector3d s;
+  double q;
+};
+
+/// The normals of one source point's pairs, formed in the plane pass (normal_equations.cpp) from
+/// PairNormalSource: for its i-th pair (target point y = idx[i], normal n = target_points[y].n)
+/// and m = R m_j, its source normal in the target frame at the association's rotation R,
+///   s = n + sign(n . m) m   (sign +1 when n . m >= 0),
+/// the mean direction of the two surfaces' normals (the sign flips the source normal onto the
+/// target's side: PCA normals have no sign; |s| >= sqrt(2), never degenerate). A source point
+/// without a normal (m = 0) has s = n; a target point without one (n = 0), s = 0 and q = 0.
+/// Writes out[0..count). Formed per pass rather than stored per pair (24 B x k per source point
+/// less, docs/PERFORMANCE.md).
+void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
+                           const PlanePoint* target_points, PairNormal* out);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -283,7 +283,7 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
     plane.points = &target_plane_points;
     plane.epsilon = solver.expert.plane_epsilon;
   }
-  associator.set_target(&tree, &target.centered, &target_plane_points);
+  associator.set_target(&tree, &target.centered);
   has_target = true;
   return Status::Ok();
 }
@@ -368,7 +368,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
                                               detail::coarse_stride(o, n), o.num_threads};
   associator.prepare(settings, source.centered, pair_normals() ? &source_normals : nullptr);
-  plane.pair_normals = associator.pair_normals();
+  plane.pair_source = associator.pair_normal_source();
   lm.resize(n, o.max_neighbours);
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
   const CloudMoments moments = compute_moments(source.centered);

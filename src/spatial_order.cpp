@@ -69,6 +69,10 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
   // Cells of one size on every axis (a flat cloud keeps its neighbours close on the flat axis).
   // (p - lo) / extent is in [0, 1] also for a tiny extent, where kCells / extent would overflow.
   std::vector<std::pair<std::uint64_t, std::uint32_t>>& keys = scratch->keys;
+  if (keys.capacity() < n) {  // exactly n: growing by resize() would double the capacity
+    keys = {};
+    keys.reserve(n);
+  }
   keys.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d q = (((*a)[i] - lo) / extent * kCells).array().floor().min(kCells - 1.0);

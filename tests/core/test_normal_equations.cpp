@@ -10,6 +10,7 @@
 #include "core_test_util.hpp"
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
+#include "pair_normal_reference.hpp"
 #include "ppcr/se3.hpp"
 #include "weights.hpp"
 
@@ -164,6 +165,12 @@ std::vector<Eigen::Vector3d> random_normals(std::size_t n, std::uint64_t seed) {
     normals[i] = i % 5 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
   }
   return normals;
+}
+
+// The rotation at which a test's pair normals are frozen (PairNormalSource).
+Eigen::Matrix3d pair_rotation() {
+  return core_test::make_pose(Eigen::Vector3d(0.3, -1.0, 0.4), 0.9, Eigen::Vector3d::Zero())
+      .linear();
 }
 
 // The plane model over pb's target with the given normals (kept: the references read them), or
@@ -447,8 +454,9 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
   const Problem pb = make_problem(75, 3000, k, 0.08);
   PackedPlane packed(pb, 76, 0.05);
   PackedPlane packed_pairs(pb, 76, 0.05);
-  const std::vector<Eigen::Vector3d> pair = random_normals(pb.source.size() * k, 77);
-  packed_pairs.model.pair_normals = &pair;
+  const std::vector<Eigen::Vector3d> source_normals = random_normals(pb.source.size(), 77);
+  const ppcr::detail::PairNormalSource pair_source{&source_normals, pair_rotation()};
+  packed_pairs.model.pair_source = &pair_source;
   Rng rng(78);
   std::vector<double> w_prev(pb.source.size() * k);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
@@ -471,7 +479,7 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
         ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr, threads,
                     &in_place, model);
         INFO("plane " << (model != nullptr) << " pair normals "
-                      << (model != nullptr && model->pair_normals != nullptr) << " dof " << wp.dof
+                      << (model != nullptr && model->pair_source != nullptr) << " dof " << wp.dof
                       << " inv_scale_sq " << wp.inv_scale_sq << " threads " << threads);
         CHECK(in_place.cost_prev_weights == separate.eval.cost_prev_weights);
         CHECK(in_place.cost == separate.eval.cost);
@@ -597,15 +605,18 @@ TEST_CASE("plane model: H is the Hessian of the fixed-weight cost at zero residu
 TEST_CASE("plane model with pair normals: naive sums with Omega_kj, central-difference gradient",
           "[normal_equations]") {
   const Problem pb = make_problem(71, 600, 6, 0.15);
-  // A different normal for every slot (every fifth zero): the pair normals must replace the
-  // target points' normals everywhere.
-  const std::vector<Eigen::Vector3d> pair = random_normals(pb.source.size() * 6, 73);
+  // A source normal for every source point (every fifth zero), rotated by R: the pair normals,
+  // formed in the pass, must replace the target points' normals everywhere.
+  const std::vector<Eigen::Vector3d> source_normals = random_normals(pb.source.size(), 73);
+  const ppcr::detail::PairNormalSource pair_source{&source_normals, pair_rotation()};
   Rng rng(74);
   std::vector<double> w_prev(pb.source.size() * 6);
   for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 2.0);
   PackedPlane packed(pb, 72, 0.05);
   ppcr::detail::PlaneModel& plane = packed.model;
-  plane.pair_normals = &pair;
+  plane.pair_source = &pair_source;
+  const std::vector<Eigen::Vector3d> pair = core_test::reference_pair_normals(
+      pb.assoc, packed.normals, source_normals, pair_source.R_target_source);
   for (const WeightParams& wp : weight_params()) {
     const Eigen::Isometry3d T =
         core_test::make_pose(Eigen::Vector3d(0, 1, 1), 0.03, Eigen::Vector3d(0.01, 0, 0)) * pb.T;

@@ -1,5 +1,6 @@
 // Pair normals of the plane model with source normals (pair_normals.hpp), against a reference
-// that picks the sign by comparing both candidate sums instead of by the dot product.
+// that picks the sign by comparing both candidate sums instead of by the dot product
+// (pair_normal_reference.hpp).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -7,21 +8,12 @@
 
 #include "association.hpp"
 #include "core_test_util.hpp"
+#include "pair_normal_reference.hpp"
 #include "pair_normals.hpp"
 
 namespace {
 
 using core_test::Rng;
-
-// The reference: of n + R m and n - R m, the longer one, normalised (|n +- R m|^2 = 2 +- 2 n.Rm,
-// so the longer one is the sum with the source normal on the target's side).
-Eigen::Vector3d reference(const Eigen::Vector3d& n, const Eigen::Vector3d& m,
-                          const Eigen::Matrix3d& R) {
-  if (n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
-  if (m.squaredNorm() == 0.0) return n;
-  const Eigen::Vector3d plus = n + R * m, minus = n - R * m;
-  return plus.norm() >= minus.norm() ? plus.normalized() : minus.normalized();
-}
 
 struct Case {
   ppcr::detail::AssociationTable assoc;
@@ -61,19 +53,32 @@ Case make_case(std::uint64_t seed) {
   return c;
 }
 
-std::vector<Eigen::Vector3d> run(const Case& c, int threads) {
+// Every row's pair normals, as the plane pass forms them (slots past a row's count stay NaN).
+std::vector<ppcr::detail::PairNormal> run_raw(const Case& c) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<Eigen::Vector3d> out(c.assoc.index.size(), Eigen::Vector3d::Constant(nan));
-  ppcr::detail::compute_pair_normals(c.assoc, c.target_points, c.source_normals, c.R, threads,
-                                     &out);
+  std::vector<ppcr::detail::PairNormal> out(c.assoc.index.size(),
+                                            {Eigen::Vector3d::Constant(nan), nan});
+  const std::size_t k = static_cast<std::size_t>(c.assoc.k);
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    ppcr::detail::pair_normals_of_point(c.R * c.source_normals[j], &c.assoc.index[j * k],
+                                        c.assoc.count[j], c.target_points.data(), &out[j * k]);
+  }
   return out;
+}
+
+// The unit normals s sqrt(q) = s / |s| they stand for (zero without a normal, NaN past a count).
+std::vector<Eigen::Vector3d> run(const Case& c) {
+  std::vector<Eigen::Vector3d> unit;
+  for (const ppcr::detail::PairNormal& pn : run_raw(c)) unit.push_back(pn.s * std::sqrt(pn.q));
+  return unit;
 }
 
 }  // namespace
 
-TEST_CASE("pair normals equal the reference; unused slots are not written", "[pair_normals]") {
+TEST_CASE("pair normals equal the reference; slots past the count are not written",
+          "[pair_normals]") {
   const Case c = make_case(301);
-  const std::vector<Eigen::Vector3d> out = run(c, 1);
+  const std::vector<Eigen::Vector3d> out = run(c);
   const std::size_t k = static_cast<std::size_t>(c.assoc.k);
   std::size_t zero_target = 0, zero_source = 0, flipped = 0, unused = 0;
   for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
@@ -86,7 +91,7 @@ TEST_CASE("pair normals equal the reference; unused slots are not written", "[pa
       }
       const Eigen::Vector3d& n = c.target_normals[c.assoc.index[slot]];
       const Eigen::Vector3d& s = c.source_normals[j];
-      const Eigen::Vector3d ref = reference(n, s, c.R);
+      const Eigen::Vector3d ref = core_test::reference_pair_normal(n, s, c.R);
       INFO("slot " << slot);
       CHECK((out[slot] - ref).norm() <= 1e-15);
       if (n.squaredNorm() == 0.0) {
@@ -124,7 +129,7 @@ TEST_CASE("the same surface on both sides gives the target's normal, whatever th
     c.source_normals[j] = (j % 2 == 0 ? 1.0 : -1.0) * (c.R.transpose() * n);
   }
   c.assoc.recount();
-  const std::vector<Eigen::Vector3d> out = run(c, 1);
+  const std::vector<Eigen::Vector3d> out = run(c);
   for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
     if (c.assoc.count[j] == 0) continue;
     const Eigen::Vector3d& n = c.target_normals[c.assoc.index[j * k]];
@@ -132,45 +137,34 @@ TEST_CASE("the same surface on both sides gives the target's normal, whatever th
   }
 }
 
-TEST_CASE("pair normals are identical with 1 and 2 threads", "[pair_normals]") {
-  const Case c = make_case(303);
-  const std::vector<Eigen::Vector3d> one = run(c, 1), two = run(c, 2);
-  for (std::size_t i = 0; i < one.size(); ++i) {
-    if (std::isnan(one[i].x())) {
-      CHECK(std::isnan(two[i].x()));
-    } else {
-      CHECK(one[i] == two[i]);
-    }
-  }
-}
-
-// compute_pair_normals takes two pairs per step in two lanes; each lane must round as the
-// one-pair formula (n + s R m) / |n + s R m| written out, so that the results do not
-// depend on a pair's place in its list (an odd count leaves one pair to the one-pair path).
+// pair_normals_of_point takes two pairs per step in two lanes; each lane must round as the
+// one-pair formula written out (s = n + sign(n . m) m, q = 1 / ((s_x^2 + s_y^2) + s_z^2)), so that
+// the results do not depend on a pair's place in its list (an odd count leaves one pair to the
+// one-pair path).
 TEST_CASE("pair normals equal the one-pair formula to the bit, at every place in a list",
           "[pair_normals]") {
   for (std::uint64_t seed : {303u, 304u, 305u}) {
     const Case c = make_case(seed);
-    const std::vector<Eigen::Vector3d> out = run(c, 1);
+    const std::vector<ppcr::detail::PairNormal> out = run_raw(c);
     const std::size_t k = static_cast<std::size_t>(c.assoc.k);
     std::size_t compared = 0, second_lane = 0;
     for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
       const Eigen::Vector3d m = c.R * c.source_normals[j];
-      for (std::size_t q = 0; q < c.assoc.count[j]; ++q) {
-        const std::size_t slot = j * k + q;
+      for (std::size_t i = 0; i < c.assoc.count[j]; ++i) {
+        const std::size_t slot = j * k + i;
         const Eigen::Vector3d& n = c.target_normals[c.assoc.index[slot]];
-        Eigen::Vector3d want = n;
-        if (n.squaredNorm() != 0.0 && m.squaredNorm() != 0.0) {
-          const Eigen::Vector3d sum =
-              n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
-          want = sum / std::sqrt((sum.x() * sum.x() + sum.y() * sum.y()) + sum.z() * sum.z());
+        Eigen::Vector3d want_s = Eigen::Vector3d::Zero();
+        double want_q = 0.0;
+        if (n.squaredNorm() != 0.0) {
+          want_s = n.dot(m) >= 0.0 ? Eigen::Vector3d(n + m) : Eigen::Vector3d(n - m);
+          want_q =
+              1.0 / ((want_s.x() * want_s.x() + want_s.y() * want_s.y()) + want_s.z() * want_s.z());
           ++compared;
-          second_lane += q % 2;
+          second_lane += i % 2;
         }
         INFO("seed " << seed << " slot " << slot);
-        CHECK(out[slot].x() == want.x());
-        CHECK(out[slot].y() == want.y());
-        CHECK(out[slot].z() == want.z());
+        CHECK(out[slot].s == want_s);
+        CHECK(out[slot].q == want_q);
       }
     }
     CHECK(compared > 800u);

@@ -33,9 +33,11 @@ SAMPLES = [
      "normals and information matrices"),
     (ROOT + [ALIGN, REG_ALIGN, FIND, f"{NS}detail::associate_cached({CLOUD})"] + KD,
      "kdtree.cpp:90", "search (k-d tree, neighbour cache, association)"),
-    (ROOT + [ALIGN, REG_ALIGN, FIND, f"{NS}detail::compute_pair_normals({CLOUD})::"
-     "{lambda(long)#1}::operator()(long) const"], "pair_normals.cpp:30",
-     "normals and information matrices"),
+    # The pair normals, formed in the plane pass, count as the pass.
+    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS, f"{NS}detail::pair_normals_of_point("
+             "Eigen::Matrix<double, 3, 1, 0, 3, 1> const&, unsigned int const*, unsigned long, "
+             f"{NS}detail::PlanePoint const*, Eigen::Matrix<double, 3, 1, 0, 3, 1>*)"],
+     "pair_normals.cpp:40", "normal equations (plane pass)"),
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "weight_kernel.hpp:40", "E-step (weights)"),
     # The weight kernel inlined into the pass (perf names inlined frames without their
     # parameters), its leaf an intrinsic's header.

@@ -32,7 +32,7 @@ RULES = [
     ("quality measures", r"measure_alignment|degenerate_directions|normal_information"
      r"|detail::judge$", True),
     ("filtering (voxel)", r"voxel_downsample", True),
-    ("normals and information matrices", r"compute_normals|compute_pair_normals|fit_normal"
+    ("normals and information matrices", r"compute_normals|fit_normal"
      r"|pack_plane_points|surface_noise", True),
     ("search (k-d tree, neighbour cache, association)", r"Associator::|associate_cached"
      r"|detail::associate$|NeighbourCache::|spread_lists|AssociationTable::", False),
