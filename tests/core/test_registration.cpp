@@ -1391,6 +1391,88 @@ TEST_CASE("cost drop on a slowly creeping pose stops near 100 fixed iterations' 
   }
 }
 
+// An open limitation, not run by default (hidden tag; docs/TERMINATION.md, "Slow creep"): a
+// tabletop (a noisy elliptical plane holding 81 % of the points, three boxes clustered off-centre
+// the only hold on rotation about its normal) 20 degrees off about an axis near the normal. The
+// coarse phase settles 6-9 degrees off; in the fine phase every inner solve ends on one
+// unevaluated step predicted to drop the cost by less than 1 %, each moving the source far less
+// than the motion guard, so the cost drop counts them low and stops while the pose still creeps
+// toward the optimum that 100 fixed iterations reach; the verdict says good. The same mechanism
+// stopped registrations of a real Kinect tabletop (PCL's milk_cartoon_all_small_clorox.pcd) with
+// the earlier defaults. Fails (open):
+//   ppcr_core_registration_test "[limitation]"
+TEST_CASE("cost drop on a tabletop turned about its normal stops where 100 fixed iterations do",
+          "[.][limitation]") {
+  for (std::uint64_t seed : {1u, 2u}) {
+    Rng rng(seed);
+    PointCloud target;
+    const double noise = 0.003;
+    while (target.size() < 16200) {  // the table: an ellipse 2.2 x 1.4 m at z = 0
+      const double x = core_test::uniform(rng, -1.1, 1.1), y = core_test::uniform(rng, -0.7, 0.7);
+      if ((x / 1.1) * (x / 1.1) + (y / 0.7) * (y / 0.7) <= 1.0) {
+        target.emplace_back(x, y, core_test::gaussian(rng, noise));
+      }
+    }
+    // Three boxes within 6 cm of (0.3, 0): sides and top, sampled by area.
+    for (int b = 0; b < 3; ++b) {
+      const Eigen::Vector2d centre(0.3 + core_test::uniform(rng, -0.06, 0.06),
+                                   core_test::uniform(rng, -0.06, 0.06));
+      const double w = 0.1 * core_test::uniform(rng, 0.8, 1.2);
+      const double h = core_test::uniform(rng, 0.10, 0.26);
+      for (int i = 0; i < 1267; ++i) {
+        const double a = core_test::uniform(rng, -0.5, 0.5) * w,
+                     e = core_test::gaussian(rng, noise);
+        const int face =
+            core_test::uniform(rng, 0.0, 4.0 * h + w) < w ? 4 : static_cast<int>(i % 4);
+        const double z = core_test::uniform(rng, 0.0, h), side = face % 2 == 0 ? -0.5 : 0.5;
+        Eigen::Vector3d q;
+        if (face == 4) {
+          q = Eigen::Vector3d(a, core_test::uniform(rng, -0.5, 0.5) * w, h + e);
+        } else if (face < 2) {
+          q = Eigen::Vector3d(side * w + e, a, z);
+        } else {
+          q = Eigen::Vector3d(a, side * w + e, z);
+        }
+        target.emplace_back(centre.x() + q.x(), centre.y() + q.y(), q.z());
+      }
+    }
+    Eigen::Vector3d lo = target[0], hi = target[0], centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : target) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+      centroid += p;
+    }
+    centroid /= static_cast<double>(target.size());
+    const double extent = (hi - lo).norm(),
+                 azimuth = core_test::uniform(rng, 0.0, 2.0 * core_test::kPi);
+    const double tilt = core_test::deg2rad(16.0);
+    const Eigen::Vector3d axis(std::sin(tilt) * std::cos(azimuth),
+                               std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
+    // The source: the same points turned 20 degrees about the centroid and shifted 7 % of the
+    // extent; T_true maps it back.
+    const Eigen::Isometry3d T_move =
+        Eigen::Translation3d(centroid + 0.07 * extent * core_test::random_unit_vector(rng)) *
+        core_test::make_pose(axis, core_test::deg2rad(20.0), Eigen::Vector3d::Zero()) *
+        Eigen::Translation3d(-centroid);
+    const Eigen::Isometry3d T_true = T_move.inverse();
+    const PointCloud source = core_test::transformed(target, T_move);
+    RegistrationOptions o;
+    o.radius = 0.05 * extent;
+    const RegistrationResult r = ppcr::align(source, target, o);
+    o.criteria = ppcr::kCriterionFixed;
+    const RegistrationResult fixed = ppcr::align(source, target, o);
+    auto errors = [&T_true](const RegistrationResult& x) {
+      return std::to_string(rotation_error_deg(x.T_target_source, T_true)) + " deg, " +
+             std::to_string(x.iterations) + " iterations, " + ppcr::to_string(x.stop_reason) +
+             ", " + ppcr::to_string(x.quality);
+    };
+    INFO("seed " << seed << ": cost drop " << errors(r) << "; fixed 100 " << errors(fixed));
+    REQUIRE(r.status.ok());
+    REQUIRE(rotation_error_deg(fixed.T_target_source, T_true) < 0.1);
+    CHECK(rotation_error_deg(r.T_target_source, T_true) < 0.1);
+  }
+}
+
 TEST_CASE("fitness, inlier RMSE and overlap: brute force at the final pose", "[registration]") {
   for (bool source_normals : {false, true}) {
     INFO("source normals " << source_normals);
