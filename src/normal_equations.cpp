@@ -249,10 +249,11 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    // Without r_sq, a point's squared errors live on the stack (read back within the point), as
-    // do its pairs' normals.
+    // Without r_sq, a point's squared errors live on the stack (read back within the point); its
+    // pairs' normals in the block's k slots of pair_normals_.
     double r_local[AssociationTable::kMaxNeighbours];
-    PairNormal normals_local[kPairNormals ? AssociationTable::kMaxNeighbours : 1];
+    PairNormal* normals_local =
+        kPairNormals ? &pair_normals_[static_cast<std::size_t>(b) * k] : nullptr;
     BlockSums s;
     s.S0 = s.cost = s.cost_prev = 0.0;
     s.S1.setZero();
@@ -307,6 +308,10 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   // loops carry no model branches.
   const bool use_plane = plane != nullptr && plane->points != nullptr;
   const bool use_pair_normals = use_plane && plane->pair_source != nullptr;
+  if (use_pair_normals) {  // k per block, sized once
+    const std::size_t slots = blocks_.size() * static_cast<std::size_t>(assoc.k);
+    if (pair_normals_.size() < slots) pair_normals_.resize(slots);
+  }
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
         e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);

@@ -76,6 +76,14 @@ struct PairNormalSource {
   Eigen::Matrix3d R_target_source = Eigen::Matrix3d::Identity();
 };
 
+/// A pair's normal n = s / |s| as the plane pass uses it: s and q = 1 / |s|^2 (so that
+/// n n^T = q s s^T and (n . e)^2 = q (s . e)^2: one division, no square root); s = 0 and q = 0
+/// for a pair without a normal (Omega = I).
+struct PairNormal {
+  Eigen::Vector3d s;
+  double q;
+};
+
 /// The plane error model's data (null = point model).
 struct PlaneModel {
   // Per target point (pack_plane_points), same order and positions as the target cloud passed
@@ -140,6 +148,9 @@ class NormalEquations {
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
             double* w_new, double* r_sq, int num_threads, const PlaneModel* plane);
   std::vector<BlockSums> blocks_;
+  // With pair normals, k per block of source points: the pass forms a point's there (sized by
+  // the first such evaluate(), then reused).
+  std::vector<PairNormal> pair_normals_;
 };
 
 }  // namespace detail

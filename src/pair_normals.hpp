@@ -13,14 +13,6 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-/// A pair's normal n = s / |s| as the plane pass uses it: s and q = 1 / |s|^2 (so that
-/// n n^T = q s s^T and (n . e)^2 = q (s . e)^2: one division, no square root); s = 0 and q = 0
-/// for a pair without a normal (Omega = I).
-struct PairNormal {
-  Eigen::Vector3d s;
-  double q;
-};
-
 /// The normals of one source point's pairs, formed in the plane pass (normal_equations.cpp) from
 /// PairNormalSource: for its i-th pair (target point y = idx[i], normal n = target_points[y].n)
 /// and m = R m_j, its source normal in the target frame at the association's rotation R,
