@@ -167,7 +167,7 @@ struct Fixture {
     w_prev.assign(n * kNeighbours, 1.0);
     w_new.assign(n * kNeighbours, 0.0);
     r_sq.assign(n * kNeighbours, 0.0);
-    ne.resize(n);
+    ne.resize(n, kNeighbours);
   }
   ppcr::PointCloud target, source;
   ppcr::detail::KdTree tree;

@@ -1,6 +1,8 @@
 // association.cpp - radius-limited kNN of every transformed source point.
 #include "association.hpp"
 
+#include <cassert>
+
 #include "parallel.hpp"
 
 namespace ppcr {
@@ -26,6 +28,7 @@ void associate(const KdTree& target_tree, const PointCloud& source,
                const Eigen::Isometry3d& T_target_source, double radius_sq, int num_threads,
                AssociationTable* table) {
   const int k = table->k;
+  assert(k <= AssociationTable::kMaxNeighbours);  // the query's distances on the stack
   const Eigen::Matrix3d R = T_target_source.linear();
   const Eigen::Vector3d t = T_target_source.translation();
   parallel_for(num_threads, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t j) {

@@ -15,8 +15,10 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 /// Slot m < count[j] of source point j holds its m-th nearest target point within the radius,
-/// index[j * k + m] (into the target); ties in distance by index. The distances are not kept
-/// (each user computes its own residual: 8 B per slot less). Sized once by resize().
+/// index[j * k + m] (into the target). Ties in distance are ordered by the path that wrote the
+/// row: by index through the neighbour cache, in the k-d tree's visit order through associate().
+/// The distances are not kept (each user computes its own residual: 8 B per slot less). Sized
+/// once by resize().
 struct AssociationTable {
   int k = 0;
   std::vector<std::uint32_t> index;

@@ -16,7 +16,8 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
-// Omega = a I + n n^T of a target point (error_model.hpp): a = epsilon with a normal, else 1.
+// Omega = a I + n n^T of a target point (ppcr/options.hpp, ErrorModel): a = epsilon with a normal,
+// else 1.
 inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
   return n.squaredNorm() > 0.0 ? epsilon : 1.0;
 }
@@ -81,8 +82,9 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
   }
 }
 
-void NormalEquations::resize(std::size_t source_points) {
+void NormalEquations::resize(std::size_t source_points, int k) {
   blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
+  pair_normals_.resize(blocks_.size() * static_cast<std::size_t>(k));
 }
 
 namespace {
@@ -308,10 +310,9 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   // loops carry no model branches.
   const bool use_plane = plane != nullptr && plane->points != nullptr;
   const bool use_pair_normals = use_plane && plane->pair_source != nullptr;
-  if (use_pair_normals) {  // k per block, sized once
-    const std::size_t slots = blocks_.size() * static_cast<std::size_t>(assoc.k);
-    if (pair_normals_.size() < slots) pair_normals_.resize(slots);
-  }
+  assert(source.size() <= blocks_.size() * kBlockSize);
+  assert(!use_pair_normals ||
+         pair_normals_.size() >= blocks_.size() * static_cast<std::size_t>(assoc.k));
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
         e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);

@@ -11,7 +11,7 @@
 //   H = [ tr(S2) I - S2 , [S1]_x ; -[S1]_x , S0 I ],   g = [ sum ebar_j x p_j ; -sum ebar_j ].
 // So each source point adds 16 numbers, not a 6x6 outer product per pair.
 //
-// Plane model (error_model.hpp): r_kj = e^T Omega_k e with Omega_k = a_k I + n_k n_k^T
+// Plane model (ppcr/options.hpp, ErrorModel): r_kj = e^T Omega_k e with Omega_k = a_k I + n_k n_k^T
 // (a_k = epsilon with a normal, 1 without); with source normals n_k is the pair's normal n_kj,
 // a constant of the pass, so the same formulas hold with Omega_kj. J_j is still shared by a point's
 // neighbours, so with Obar_j = sum_k w_kj Omega_k and ebar_j = sum_k w_kj Omega_k e_kj:
@@ -118,7 +118,9 @@ class NormalEquations {
   static constexpr std::size_t kBlockSize = 256;
 
   /// Sizes the per-block partial sums (set-up, not in the loop).
-  void resize(std::size_t source_points);
+  /// Sizes the per-block partial sums and the pair normals' slots for k neighbours (set-up, not
+  /// in the loop).
+  void resize(std::size_t source_points, int k);
 
   /// One pass at pose T (maps source into the target's frame): w_new[j*k+m] = E-step weights at
   /// T, and out = costs, H and g under w_new. If w_prev is not null, also the cost at T under
@@ -148,8 +150,7 @@ class NormalEquations {
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
             double* w_new, double* r_sq, int num_threads, const PlaneModel* plane);
   std::vector<BlockSums> blocks_;
-  // With pair normals, k per block of source points: the pass forms a point's there (sized by
-  // the first such evaluate(), then reused).
+  // With pair normals, k per block of source points: the pass forms a point's there.
   std::vector<PairNormal> pair_normals_;
 };
 

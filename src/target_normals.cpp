@@ -1,5 +1,5 @@
 // target_normals.cpp - PCA normals of a cloud for the plane error model: the target's, and the
-// source's with PlaneOptions::source_normals.
+// source's with ExpertOptions::source_normals.
 #include "target_normals.hpp"
 
 #include <Eigen/Eigenvalues>

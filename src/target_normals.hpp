@@ -1,5 +1,5 @@
-// target_normals.hpp - PCA normals of a cloud for the plane error model (error_model.hpp): the
-// target's, and the source's with PlaneOptions::source_normals.
+// target_normals.hpp - PCA normals of a cloud for the plane error model (normal_equations.hpp):
+// the target's, and the source's with ExpertOptions::source_normals.
 #pragma once
 
 #include <Eigen/Core>

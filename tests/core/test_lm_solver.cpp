@@ -354,7 +354,7 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
     LMProblem pb = scene.problem();
     pb.plane = model;
     ppcr::detail::NormalEquations reference;
-    reference.resize(source.size());
+    reference.resize(source.size(), IrlsScene::kNeighbours);
     std::vector<double> w_ref(source.size() * IrlsScene::kNeighbours, 0.0);
     LMOptions options;
     options.function_tolerance = 0.0;

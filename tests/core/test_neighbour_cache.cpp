@@ -437,8 +437,8 @@ TEST_CASE(
 TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried rows, bit for bit",
           "[association]") {
   // A warm cache answers most rows from its lists (distances computed in neighbour_cache.cpp);
-  // a fresh cache queries every row (distances from the k-d tree, kdtree.cpp). Same indices,
-  // same order, same distances to the bit.
+  // a fresh cache queries every row (distances from the k-d tree, kdtree.cpp). Same indices in
+  // the same order: the distances, by the same expression, rank ties alike.
   const Scene scene(57, 5000, 3000, 1.1);
   REQUIRE(scene.built);
   const PointCloud &target = scene.target, &source = scene.source;
@@ -472,7 +472,7 @@ TEST_CASE(
   // of a Z-ordered source drifts in the first rows of a cache and table sized for every point;
   // then every point, the coarse points' lists spread to their rows. Their rows must be
   // answered from their lists (fewer queries) and every table must be what brute force and a
-  // fresh cache give, indices, order and distances.
+  // fresh cache give: indices and order (the distances follow from the indices).
   const Scene scene(58, 5000, 3000, 1.1);
   REQUIRE(scene.built);
   const PointCloud& target = scene.target;

@@ -113,7 +113,8 @@ Reference naive(const Problem& pb, const WeightParams& wp, const Eigen::Isometry
   return ref;
 }
 
-// Omega of a target point (error_model.hpp): epsilon I + n n^T with a normal, I without.
+// Omega of a target point (ppcr/options.hpp, ErrorModel): epsilon I + n n^T with a normal, I
+// without.
 Eigen::Matrix3d omega(const Eigen::Vector3d& n, double epsilon) {
   if (n.squaredNorm() == 0.0) return Eigen::Matrix3d::Identity();
   return epsilon * Eigen::Matrix3d::Identity() + n * n.transpose();
@@ -201,7 +202,7 @@ Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T
            const double* w_prev, int threads, const ppcr::detail::PlaneModel* plane = nullptr,
            bool with_r_sq = true) {
   NormalEquations ne;
-  ne.resize(pb.source.size());
+  ne.resize(pb.source.size(), pb.assoc.k);
   Output out;
   const std::size_t slots = pb.source.size() * static_cast<std::size_t>(pb.assoc.k);
   out.w.assign(slots, 0.0);
@@ -473,7 +474,7 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
       for (int threads : {1, 2}) {
         const Output separate = run(pb, wp, T, w_prev.data(), threads, model, false);
         NormalEquations ne;
-        ne.resize(pb.source.size());
+        ne.resize(pb.source.size(), pb.assoc.k);
         std::vector<double> w = w_prev;
         Evaluation in_place;
         ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr, threads,

@@ -1266,7 +1266,7 @@ TEST_CASE("the plane model with source normals recovers the pose on the syntheti
     REQUIRE(reg.set_target(sc.target).ok());
     const PointCloud smaller(sc.source.begin(), sc.source.begin() + 700);
     const RegistrationResult r1 = reg.align(sc.source);
-    const RegistrationResult r2 = reg.align(smaller);    // pair normals resized down
+    const RegistrationResult r2 = reg.align(smaller);    // buffers sized down
     const RegistrationResult r3 = reg.align(sc.source);  // and back up
     REQUIRE(r1.status.ok());
     CHECK(r1.T_target_source.matrix() ==

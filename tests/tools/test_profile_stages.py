@@ -33,10 +33,11 @@ SAMPLES = [
      "normals and information matrices"),
     (ROOT + [ALIGN, REG_ALIGN, FIND, f"{NS}detail::associate_cached({CLOUD})"] + KD,
      "kdtree.cpp:90", "search (k-d tree, neighbour cache, association)"),
-    # The pair normals, formed in the plane pass, count as the pass.
-    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS, f"{NS}detail::pair_normals_of_point("
-             "Eigen::Matrix<double, 3, 1, 0, 3, 1> const&, unsigned int const*, unsigned long, "
-             f"{NS}detail::PlanePoint const*, Eigen::Matrix<double, 3, 1, 0, 3, 1>*)"],
+    # The pair normals, formed in the plane pass with source normals, count as the pass.
+    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS.replace("pass<true, false,", "pass<true, true,"),
+             f"{NS}detail::pair_normals_of_point(Eigen::Matrix<double, 3, 1, 0, 3, 1> const&, "
+             f"unsigned int const*, unsigned long, {NS}detail::PlanePoint const*, "
+             f"{NS}detail::PairNormal*)"],
      "pair_normals.cpp:40", "normal equations (plane pass)"),
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "weight_kernel.hpp:40", "E-step (weights)"),
     # The weight kernel inlined into the pass (perf names inlined frames without their

@@ -8,8 +8,8 @@ Each sample's call chain is read from the root toward the leaf: the first frame 
 stage of its own (the normal fits, the plane pass, the quality measures, ...) decides the
 sample's stage, so the stages split ppcr's time and add up to 100 %; a frame that only contains
 stages (the association, the LM solver, set_target) gives its stage to the samples that reach no
-stage inside it: the pair normals computed during the association count as normals, the k-d
-queries of the normal fits as normals, those of the association as search. Inside the plane
+stage inside it: the pair normals, formed in the plane pass, count as the pass, the k-d queries
+of the normal fits as normals, those of the association as search. Inside the plane
 pass, which computes the E-step's weights as it goes, a sample is the E-step's when a frame below
 the pass is the weight kernel's (the kernel is inlined: perf shows it from the debug information
 of a build with -g) or its leaf's source line is in weight_kernel.hpp. ppcr's time is the

@@ -40,12 +40,15 @@ for scene in room street; do
   # default: docs/BENCHMARK.md says why).
   eps="--plane-epsilon 0.005"
   runs=("ppcr|defaults (local map 5)|" "ppcr|defaults, --local-map 1|--local-map 1")
-  for method in ppcr ${methods//ppcr/}; do
-    for mode in "scan to scan|--local-map 1" "local map|${map[$scene]}"; do
-      label="shared, ${mode%%|*}" flags="${shared[$scene]} ${mode#*|}"
-      runs+=("$method|$label|$flags")
-      if [ "$method" = ppcr ]; then runs+=("$method|$label, $eps|$flags $eps"); fi
-    done
+  for method in ${methods:-ppcr}; do
+    local_map="$method|shared, local map|${shared[$scene]} ${map[$scene]}"
+    scan_to_scan="$method|shared, scan to scan|${shared[$scene]} --local-map 1"
+    if [ "$method" = ppcr ]; then  # also with the expert epsilon
+      runs+=("$local_map" "$scan_to_scan" "${local_map/|shared, local map|/|shared, local map, $eps|} $eps"
+        "${scan_to_scan/|shared, scan to scan|/|shared, scan to scan, $eps|} $eps")
+    else
+      runs+=("$scan_to_scan" "$local_map")
+    fi
   done
   for run in "${runs[@]}"; do
     IFS='|' read -r method label flags <<< "$run"
