@@ -22,6 +22,11 @@ inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
   return n.squaredNorm() > 0.0 ? epsilon : 1.0;
 }
 
+// a of a pair's Omega = a I + n n^T (PairNormal): epsilon with a normal, else 1.
+inline double pair_isotropic(const PairNormal& pn, double epsilon) {
+  return pn.q > 0.0 ? epsilon : 1.0;
+}
+
 // Obar_j of the plane model: symmetric, its six entries.
 struct Sym3 {
   double xx, yy, zz, xy, yz, xz;
@@ -105,7 +110,7 @@ inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const 
         // a |e|^2 + (n . e)^2 with n = s / |s|: a |e|^2 + q (s . e)^2.
         const PairNormal& nk = pair_normals[m];
         const double se = nk.s.dot(e);
-        rm = (nk.q > 0.0 ? epsilon : 1.0) * e.squaredNorm() + nk.q * (se * se);
+        rm = pair_isotropic(nk, epsilon) * e.squaredNorm() + nk.q * (se * se);
       } else {
         const double ne = q.n.dot(e);
         rm = q.a * e.squaredNorm() + ne * ne;
@@ -176,7 +181,7 @@ inline void accumulate_pair_normals(const Eigen::Vector3d& p, std::size_t count,
     const double u = w[m];
     const PlanePoint& q = points[idx[m]];
     const PairNormal& nk = pair_normals[m];
-    const double ak = nk.q > 0.0 ? epsilon : 1.0;
+    const double ak = pair_isotropic(nk, epsilon);
     const Eigen::Array2d n_xy = Eigen::Map<const Eigen::Array2d>(nk.s.data());
     const Eigen::Array2d n_yz = Eigen::Map<const Eigen::Array2d>(nk.s.data() + 1);
     const double nz = nk.s.z();

@@ -117,7 +117,6 @@ class NormalEquations {
  public:
   static constexpr std::size_t kBlockSize = 256;
 
-  /// Sizes the per-block partial sums (set-up, not in the loop).
   /// Sizes the per-block partial sums and the pair normals' slots for k neighbours (set-up, not
   /// in the loop).
   void resize(std::size_t source_points, int k);

@@ -38,12 +38,7 @@ void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, s
     const Eigen::Vector3d b = axis(target_points[idx[i + 1]].n);
     const Eigen::Array2d sq = squared_length(
         Eigen::Array2d(a.x(), b.x()), Eigen::Array2d(a.y(), b.y()), Eigen::Array2d(a.z(), b.z()));
-    if (!(sq[0] > 0.0 && sq[1] > 0.0)) {  // rare: a target point without a normal
-      out[i] = {a, inverse_sq(a)};
-      out[i + 1] = {b, inverse_sq(b)};
-      continue;
-    }
-    const Eigen::Array2d q = 1.0 / sq;
+    const Eigen::Array2d q = (sq > 0.0).select(1.0 / sq, 0.0);  // 0: no target normal
     out[i] = {a, q[0]};
     out[i + 1] = {b, q[1]};
   }

@@ -99,14 +99,8 @@ RegistrationResult refused(const Status& s, const Eigen::Isometry3d& T_initial,
   return result;
 }
 
-// A cloud's normal fits beside the normals (target_normals.hpp): per point, the spread, the reach
-// and the nearest neighbour's squared distance.
-struct FitStatistics {
-  std::vector<double> spread, reach, nearest_sq;
-};
-
-// Their medians and the point spacing (point_spacing.hpp), internal unit; surface noise and reach
-// 0 without fits.
+// A cloud's plane fits summarised (target_normals.hpp): the medians of their spread and reach, and
+// the point spacing (point_spacing.hpp), internal unit; surface noise and reach 0 without fits.
 struct SurfaceFits {
   double spacing = 0.0;
   double surface_noise = 0.0;
@@ -147,14 +141,11 @@ struct Registration::Impl {
   // The radius a target's internal unit is taken from: an automatic one is not known before the
   // target's spacing, so the unit is then the target's extent.
   double unit_radius() const { return automatic_radius() ? HUGE_VAL : options.radius; }
+  bool plane_model() const { return options.error_model == ErrorModel::kPlane; }
   // Plane model with source normals: pairs use both clouds' normals (pair_normals.hpp).
-  bool pair_normals() const {
-    return options.error_model == ErrorModel::kPlane && options.expert.source_normals;
-  }
-  void fit_normals(const PointCloud& cloud, const detail::KdTree& index,
-                   std::vector<Eigen::Vector3d>* normals, FitStatistics* fits) const;
-  SurfaceFits summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
-                             const FitStatistics& fits) const;
+  bool pair_normals() const { return plane_model() && options.expert.source_normals; }
+  SurfaceFits fit_surface(const PointCloud& cloud, const detail::KdTree& index,
+                          std::vector<Eigen::Vector3d>* normals) const;
   Status make_target(const PointCloud& cloud, double voxel);
   Status index_target();
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
@@ -234,31 +225,27 @@ Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
 Status Registration::Impl::index_target() {
   const Status s = tree.build(target.centered);
   if (!s.ok()) return s;
-  const bool planes = options.error_model == ErrorModel::kPlane;
   std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
-  FitStatistics fits;
-  if (planes) fit_normals(target.centered, tree, &normals, &fits);
-  return adopt_target(summarise_fits(target.centered, tree, fits), normals);
+  return adopt_target(fit_surface(target.centered, tree, plane_model() ? &normals : nullptr),
+                      normals);
 }
 
-// The plane fit of each point of `cloud` (internal frame, `index` built over it).
-void Registration::Impl::fit_normals(const PointCloud& cloud, const detail::KdTree& index,
-                                     std::vector<Eigen::Vector3d>* normals,
-                                     FitStatistics* fits) const {
-  detail::compute_normals(cloud, index, options.expert.normal_neighbours, options.num_threads,
-                          normals, &fits->spread, &fits->reach, &fits->nearest_sq);
-}
-
-// The medians of the fits (0 without them) and the spacing: from the fits' nearest neighbours
-// when compute_normals kept them, otherwise from queries of `index`.
-SurfaceFits Registration::Impl::summarise_fits(const PointCloud& cloud, const detail::KdTree& index,
-                                               const FitStatistics& fits) const {
-  std::vector<double> scratch;  // up to one value per point: freed, not kept
+// The plane fit of each point of `cloud` (internal frame, `index` built over it) into *normals
+// (no fits when null), summarised: the medians of the fits, and the spacing from the fits'
+// nearest neighbours when compute_normals kept them, otherwise from queries of `index`. The
+// per-point statistics are freed, not kept.
+SurfaceFits Registration::Impl::fit_surface(const PointCloud& cloud, const detail::KdTree& index,
+                                            std::vector<Eigen::Vector3d>* normals) const {
+  std::vector<double> spread, reach, nearest_sq;
+  if (normals != nullptr) {
+    detail::compute_normals(cloud, index, options.expert.normal_neighbours, options.num_threads,
+                            normals, &spread, &reach, &nearest_sq);
+  }
+  std::vector<double> scratch;  // the spacing's samples
   SurfaceFits summary;
-  summary.spacing =
-      detail::median_spacing(cloud, index, kSpacingSamples, &fits.nearest_sq, &scratch);
-  summary.surface_noise = detail::upper_median(fits.spread, &scratch);
-  summary.reach = detail::upper_median(fits.reach, &scratch);
+  summary.spacing = detail::median_spacing(cloud, index, kSpacingSamples, &nearest_sq, &scratch);
+  summary.surface_noise = detail::upper_median(&spread);
+  summary.reach = detail::upper_median(&reach);
   return summary;
 }
 
@@ -277,7 +264,7 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
     solver.radius = RegistrationOptions::kAutomaticRadiusSpacings * fits.spacing;
   }
   radius = solver.radius * target.unit;
-  if (options.error_model == ErrorModel::kPlane) {
+  if (plane_model()) {
     detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
                               &target_plane_points);
     plane.points = &target_plane_points;
@@ -313,17 +300,12 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_surface_noise = target.unit * target_fits.surface_noise;
   result->target_spacing = target.unit * target_fits.spacing;
   result->radius = radius;
-  if (!pair_normals()) {
-    has_source = true;
-    return Status::Ok();
+  if (pair_normals()) {
+    s = source_tree.build(source.centered);
+    if (!s.ok()) return s;
+    // With the fits' medians, so that set_target_to_source() can make this source the target.
+    source_fits = fit_surface(source.centered, source_tree, &source_normals);
   }
-  s = source_tree.build(source.centered);
-  if (!s.ok()) return s;
-  // And the fits' medians (two partial sorts), so that set_target_to_source() can make this
-  // source the target; the per-point statistics are freed, not kept for a call that may not come.
-  FitStatistics fits;
-  fit_normals(source.centered, source_tree, &source_normals, &fits);
-  source_fits = summarise_fits(source.centered, source_tree, fits);
   has_source = true;
   return Status::Ok();
 }
@@ -333,7 +315,7 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
   p.target = &target.centered;
   p.assoc = &associator.table();
   p.weights = detail::weight_params(solver);
-  p.plane = solver.error_model == ErrorModel::kPlane ? &plane : nullptr;
+  p.plane = plane_model() ? &plane : nullptr;
   p.num_threads = solver.num_threads;
   p.step_reference = step_reference;
   p.source_extent = source_extent;
@@ -502,7 +484,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   const Clock::time_point start = Clock::now();
   // On the target's surface: within 2 spacings of it; with the plane model, of the nearest
   // target point's tangent plane, that point within the target's median normal-fit reach.
-  const bool planes = options.error_model == ErrorModel::kPlane;
+  const bool planes = plane_model();
   const double spacing = target_fits.spacing;
   const detail::SurfaceTest surface{kCloseSpacings * spacing,
                                     planes ? &target_plane_points : nullptr, target_fits.reach};
@@ -517,7 +499,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   result->close_fraction =
       spacing > 0.0 ? q.close_fraction : std::numeric_limits<double>::quiet_NaN();
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  if (options.error_model != ErrorModel::kPlane) return;
+  if (!planes) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
       associator.points(), associator.table(), T, lm.weights().data(), target_plane_points);
   const double rms = std::sqrt(std::max(run.moments.covariance.trace(), 1e-300));

@@ -89,12 +89,11 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   });
 }
 
-double upper_median(const std::vector<double>& values, std::vector<double>* scratch) {
-  scratch->clear();
-  for (double v : values) {
-    if (v >= 0.0) scratch->push_back(v);
-  }
-  return upper_median_in_place(scratch);
+double upper_median(std::vector<double>* values) {
+  values->erase(
+      std::remove_if(values->begin(), values->end(), [](double v) { return !(v >= 0.0); }),
+      values->end());
+  return upper_median_in_place(values);
 }
 
 }  // namespace detail

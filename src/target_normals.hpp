@@ -50,8 +50,8 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
 
 /// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the
 /// spreads written by compute_normals, the cloud's surface noise; of the reaches, its typical
-/// reach. Partially sorts a copy held in *scratch.
-double upper_median(const std::vector<double>& values, std::vector<double>* scratch);
+/// reach. Drops the values < 0 from *values and partially sorts the rest in place (no copy).
+double upper_median(std::vector<double>* values);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -137,8 +137,7 @@ TEST_CASE(
     CHECK(spread[i] == Approx(std::sqrt(lambda_min)).epsilon(1e-6));
     CHECK(reach[i] == std::sqrt(by_distance[static_cast<std::size_t>(k - 1)].first));
   }
-  std::vector<double> scratch;
-  const double noise_level = ppcr::detail::upper_median(spread, &scratch);
+  const double noise_level = ppcr::detail::upper_median(&spread);
   // The smallest eigenvalue of 20 points' scatter underestimates the noise's variance (the fitted
   // plane follows the sample): about (k - 3) / k of it.
   INFO("surface noise " << noise_level);
@@ -148,11 +147,13 @@ TEST_CASE(
 
 TEST_CASE("upper_median: the upper median of the values >= 0 (spreads of points with a normal)",
           "[target_normals]") {
-  std::vector<double> scratch;
-  CHECK(ppcr::detail::upper_median({}, &scratch) == 0.0);
-  CHECK(ppcr::detail::upper_median({-1.0, -1.0}, &scratch) == 0.0);
-  CHECK(ppcr::detail::upper_median({0.3, -1.0, 0.1, 0.2}, &scratch) == 0.2);
-  CHECK(ppcr::detail::upper_median({0.4, 0.1, -1.0, 0.3, 0.2}, &scratch) == 0.3);
+  auto upper_median = [](std::vector<double> values) {  // in place on a copy
+    return ppcr::detail::upper_median(&values);
+  };
+  CHECK(upper_median({}) == 0.0);
+  CHECK(upper_median({-1.0, -1.0}) == 0.0);
+  CHECK(upper_median({0.3, -1.0, 0.1, 0.2}) == 0.2);
+  CHECK(upper_median({0.4, 0.1, -1.0, 0.3, 0.2}) == 0.3);
   // Points without a normal report -1 and are left out.
   const PointCloud four = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                            Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0)};

@@ -40,14 +40,13 @@ for scene in room street; do
   # default: docs/BENCHMARK.md says why).
   eps="--plane-epsilon 0.005"
   runs=("ppcr|defaults (local map 5)|" "ppcr|defaults, --local-map 1|--local-map 1")
-  for method in ${methods:-ppcr}; do
-    local_map="$method|shared, local map|${shared[$scene]} ${map[$scene]}"
-    scan_to_scan="$method|shared, scan to scan|${shared[$scene]} --local-map 1"
-    if [ "$method" = ppcr ]; then  # also with the expert epsilon
-      runs+=("$local_map" "$scan_to_scan" "${local_map/|shared, local map|/|shared, local map, $eps|} $eps"
-        "${scan_to_scan/|shared, scan to scan|/|shared, scan to scan, $eps|} $eps")
-    else
-      runs+=("$scan_to_scan" "$local_map")
+  sm=${shared[$scene]} lm=${map[$scene]}
+  runs+=("ppcr|shared, local map|$sm $lm" "ppcr|shared, scan to scan|$sm --local-map 1"
+    "ppcr|shared, local map, $eps|$sm $lm $eps"
+    "ppcr|shared, scan to scan, $eps|$sm --local-map 1 $eps")
+  for method in $methods; do  # the peers
+    if [ "$method" != ppcr ]; then
+      runs+=("$method|shared, scan to scan|$sm --local-map 1" "$method|shared, local map|$sm $lm")
     fi
   done
   for run in "${runs[@]}"; do

@@ -48,7 +48,7 @@ struct Arguments {
   std::vector<std::string> inputs;
   std::string kitti, tum, pairs, timestamps, method = "ppcr";
   std::vector<std::string> evaluate;
-  int local_map = 0, rpe_delta = 1;  // local_map 0: not given, set after parsing
+  int local_map = kDefaultLocalMap, rpe_delta = 1;
   double map_voxel = 0.0, rate = 10.0;
   bool quiet = false;
   ppcr_tools::RegistrationFlags flags;
@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
     return fail(2, std::string(e.what()) + " (see --help)");
   }
   if (!a.evaluate.empty()) return evaluate(a);
-  if (a.local_map == 0) a.local_map = a.method == "ppcr" ? kDefaultLocalMap : 1;
+  if (app.get_option("--local-map")->count() == 0 && a.method != "ppcr") a.local_map = 1;
   if (a.kitti.empty() && a.tum.empty()) {
     return fail(2, "no output: give --kitti and/or --tum (see --help)");
   }
