@@ -19,6 +19,7 @@
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
 #include "point_spacing.hpp"
+#include "pose_acceleration.hpp"
 #include "ppcr/metrics.hpp"
 #include "scale_schedule.hpp"
 #include "settings.hpp"
@@ -35,6 +36,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kSpacingSamples = 4096;  // enough for a median, cheap on any cloud
 constexpr double kCloseSpacings = 2.0;         // RegistrationResult::close_fraction's distance...
 constexpr double kNearSpacings = 8.0;          // ...and the reach of the points it is taken over
+constexpr double kAccelerationGain = 10.0;     // an extrapolation moves at most 10 last steps
 using detail::num;
 
 // Poses and lengths between the user's frames and units and the internal ones
@@ -330,6 +332,7 @@ struct Registration::Impl::Run {
   TerminationMonitor monitor;
   detail::ScaleSchedule scale;
   detail::LMProblem problem;
+  detail::PoseAcceleration acceleration;  // of the coarse phase
   LMOptions coarse_lm;
   double fine_tolerance;      // the inner LM's tolerance in the EM fine phase (0: none)
   double previous_tolerance;  // the last solve's
@@ -364,6 +367,9 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
       detail::ScaleSchedule(detail::schedule_options(o, target_fits.surface_noise),
                             reference_length),
       problem(reference_length, source_extent),
+      detail::PoseAcceleration(o.expert.acceleration_memory,
+                               std::sqrt(std::max(moments.covariance.trace(), 1e-300)),
+                               kAccelerationGain),
       coarse_lm,
       detail::fine_function_tolerance(o),
       coarse_lm.function_tolerance};
@@ -416,6 +422,7 @@ RegistrationResult Registration::align(const PointCloud& source,
       if (t == 1) result.status = m.no_pairs(T_initial);
       break;
     }
+    const Eigen::Isometry3d T_start = T;
     const LMSummary lm = m.solve(&run, coarse, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;
@@ -439,6 +446,15 @@ RegistrationResult Registration::align(const PointCloud& source,
         reason = StopReason::kCancelled;
       }
       if (m.options.record_history) result.history.push_back(r);
+    }
+    // Where the next iteration starts: through the coarse phase the scale is held, so every
+    // iteration applies the same map to the pose, and the pose is extrapolated along it
+    // (pose_acceleration.hpp). Not in the fine phase: there it drew lidar scans toward the
+    // optimum of the cost, farther from the ground truth than where the criterion stops.
+    if (reason == StopReason::kNone && coarse && run.scale.coarse()) {
+      T = run.acceleration.next(T_start, T);
+    } else {
+      run.acceleration.reset();
     }
   }
   m.summarise(reason, T, run, &result);

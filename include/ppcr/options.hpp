@@ -60,7 +60,7 @@ struct ExpertOptions {
   ScaleMode scale_mode = ScaleMode::kEM;
   double scale = 0.0;            // kFixed: s (> 0). kEM: the coarse s (0 = radius / 2). Cloud units
   double em_coarse_drop = 0.01;  // kEM coarse phase: a relative cost drop below this is settled...
-  int em_coarse_patience = 5;   // ...for more than this many consecutive iterations (>= 0)
+  int em_coarse_patience = 5;    // ...for more than this many consecutive iterations (>= 0)
   double em_min_shrink = 0.25;   // kEM fine phase: s^2 shrinks by at most this factor per
                                  // iteration, in (0, 1]
   double em_min_scale = 0.0;     // kEM fine phase: floor on s, cloud units (>= 0; 0 = none)
@@ -79,6 +79,9 @@ struct ExpertOptions {
   double cost_drop_max_motion = 0.03;  // kCriterionCostDrop: a low iteration must also move the
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule
+  int acceleration_memory = 3;         // kEM coarse phase: Anderson acceleration of the outer
+                                       // loop's pose from this many past iterations, [0, 8];
+                                       // 0 = the paper's plain loop (docs/TERMINATION.md)
   double mse_ratio_threshold = 2.0;    // kCriterionMsePrev: low when MSE_t < MSE_{t-1} / this (> 0)
   int mse_patience = 3;                // kCriterionMsePrev: low iterations tolerated (>= 0)
   int successful_steps_threshold = 1;  // kCriterionSuccessfulSteps: low when steps <= this (>= 0)

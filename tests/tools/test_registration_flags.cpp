@@ -37,6 +37,7 @@ TEST_CASE("no flags give the library's default options", "[tools]") {
   CHECK(p.options.max_neighbours == defaults.max_neighbours);
   CHECK(p.options.error_model == defaults.error_model);
   CHECK(p.options.expert.neighbour_cache == defaults.expert.neighbour_cache);
+  CHECK(p.options.expert.acceleration_memory == defaults.expert.acceleration_memory);
   CHECK(p.options.expert.coarse_stride == defaults.expert.coarse_stride);
   CHECK(p.options.expert.lm_function_tolerance == defaults.expert.lm_function_tolerance);
   CHECK(p.options.expert.lm_fine_function_tolerance == defaults.expert.lm_fine_function_tolerance);
@@ -91,6 +92,8 @@ TEST_CASE("bad flag values are refused, naming the flag and the value", "[tools]
       {"--lm-fine-tolerance 0.01 --scale raw", "--lm-fine-tolerance", "raw"},
       {"--scale-shrink 0", "--scale-shrink", "0"},
       {"--neighbour-cache -2", "--neighbour-cache", "-2"},
+      {"--acceleration -1", "--acceleration", "-1"},
+      {"--acceleration 9", "--acceleration", "9"},
       {"--coarse-stride 0", "--coarse-stride", "0"},
       {"--coarse-stride 65", "--coarse-stride", "65"},
       {"--coarse-stride 2.5", "--coarse-stride", "2.5"},

@@ -129,6 +129,11 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
         "radius, RMS (default " +
             str(e.cost_drop_max_motion) + "; 0 = the paper's rule)",
         kExpertGroup);
+  value(app, "--acceleration", &e.acceleration_memory,
+        "em coarse phase: Anderson acceleration of the pose from this many past iterations "
+        "(default " +
+            std::to_string(e.acceleration_memory) + "; 0 = the paper's plain loop)",
+        kExpertGroup);
   value(app, "--neighbour-cache", &e.neighbour_cache,
         "extra candidates cached per source point (default " + std::to_string(e.neighbour_cache) +
             "; 0 = none; same result either way)",
@@ -209,8 +214,9 @@ ppcr::Status read_words(const RegistrationFlags& f, ppcr::RegistrationOptions* o
 ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::RegistrationOptions& o) {
   const ppcr::ExpertOptions& e = o.expert;
   const bool em = e.scale_mode == ppcr::ScaleMode::kEM;
-  // (--source-normals and --noise-floor, on by default, are unused by the point model and the
-  // noise floor by the raw and fixed scales, as the library documents.)
+  // (--source-normals, --noise-floor and --acceleration, on by default, are unused by the point
+  // model and the noise floor and the acceleration by the raw and fixed scales, as the library
+  // documents.)
   const std::pair<bool, std::pair<const char*, std::string>> needs_em[] = {
       {e.em_min_scale > 0.0, {"--min-scale", str(e.em_min_scale)}},
       {e.coarse_stride > 1, {"--coarse-stride", f.coarse_stride}},
@@ -242,6 +248,7 @@ ppcr::Status with_flag_names(const ppcr::Status& s) {
       {"expert.successful_steps_threshold", "--steps-threshold"},
       {"expert.lm_function_tolerance", "--lm-tolerance"},
       {"expert.neighbour_cache", "--neighbour-cache"},
+      {"expert.acceleration_memory", "--acceleration"},
       {"radius", "--radius"},
       {"max_neighbours", "--max-neighbours"},
       {"dof", "--dof"},
