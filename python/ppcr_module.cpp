@@ -344,8 +344,8 @@ const std::vector<Option>& options_table() {
       value("successful_steps_patience", &E::successful_steps_patience,
             "expert: criterion 'successful_steps': low iterations tolerated"),
       value("acceleration_memory", &E::acceleration_memory,
-            "expert: 'em' coarse phase: Anderson acceleration of the pose from this many past "
-            "iterations, [0, 8] (0 = the paper's plain loop)"),
+            "expert: 'em' coarse phase: Anderson acceleration of the pose with this memory m "
+            "(from the last m + 1 iterations), [0, 8] (0 = the paper's plain loop)"),
       value("lm_max_iterations", &E::lm_max_iterations,
             "expert: Levenberg-Marquardt steps per solve (>= 1)"),
       value("lm_function_tolerance", &E::lm_function_tolerance,

@@ -6,6 +6,7 @@
 
 #include "association.hpp"
 #include "format.hpp"
+#include "pose_acceleration.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -80,7 +81,8 @@ void check_termination(const ExpertOptions& e, Checker* c) {
   c->non_negative_value(e.cost_drop_threshold, "expert.cost_drop_threshold");
   c->int_range(e.cost_drop_patience, 0, kIntMax, "expert.cost_drop_patience");
   c->non_negative_value(e.cost_drop_max_motion, "expert.cost_drop_max_motion");
-  c->int_range(e.acceleration_memory, 0, 8, "expert.acceleration_memory");
+  c->int_range(e.acceleration_memory, 0, detail::PoseAcceleration::kMaxMemory,
+               "expert.acceleration_memory");
   c->positive_value(e.mse_ratio_threshold, "expert.mse_ratio_threshold");
   c->int_range(e.mse_patience, 0, kIntMax, "expert.mse_patience");
   c->int_range(e.successful_steps_threshold, 0, kIntMax, "expert.successful_steps_threshold");

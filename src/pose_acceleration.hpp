@@ -32,7 +32,8 @@ class PoseAcceleration {
  public:
   static constexpr int kMaxMemory = 8;
 
-  /// memory: m, the number of differences kept (0: no acceleration, next() returns G(x));
+  /// memory: m, the number of differences kept, from the last m + 1 iterations (0: no
+  /// acceleration, next() returns G(x));
   /// length: the rotation part's scale (the source's RMS radius about the rotation centre);
   /// max_gain: the extrapolation's bound, in multiples of the last step |f|.
   PoseAcceleration(int memory, double length, double max_gain);
@@ -59,9 +60,11 @@ class PoseAcceleration {
   Eigen::Isometry3d anchor_ = Eigen::Isometry3d::Identity();
   Vector6d previous_f_, previous_g_;
   Eigen::Matrix<double, 6, kMaxMemory> dF_, dG_;
-  // Sized at most 6 x kMaxMemory without the heap: next() does not allocate.
+  // Sized at most 6 x kMaxMemory without the heap, so next() does not allocate, even with
+  // linearly dependent columns (a creep along one line), where a complete orthogonal
+  // decomposition would: the dependent ones get gamma 0.
   using Columns = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxMemory>;
-  Eigen::CompleteOrthogonalDecomposition<Columns> solver_;
+  Eigen::ColPivHouseholderQR<Columns> solver_;
 };
 
 }  // namespace detail

@@ -155,6 +155,8 @@ struct Registration::Impl {
   Status prepare_source(const PointCloud& cloud, RegistrationResult* result);
   detail::LMProblem problem(double step_reference, double source_extent) const;
   Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
+  const detail::AssociationTable& associate(Run* run, bool coarse, const Eigen::Isometry3d& T,
+                                            Eigen::Isometry3d* T_start);
   LMSummary solve(Run* run, bool coarse, Eigen::Isometry3d* T);
   Status no_pairs(const Eigen::Isometry3d& T_initial) const;
   IterationRecord record(int t, bool coarse, double scale_sq, const LMSummary& summary,
@@ -375,6 +377,20 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
       coarse_lm.function_tolerance};
 }
 
+// Up to k target points within the radius of each source point at *T_start (Sec. 3.1). A start
+// extrapolated beyond every target point falls back to the last solved pose T.
+const detail::AssociationTable& Registration::Impl::associate(Run* run, bool coarse,
+                                                              const Eigen::Isometry3d& T,
+                                                              Eigen::Isometry3d* T_start) {
+  associator.find(coarse, *T_start);
+  if (associator.table().pairs == 0 && T_start->matrix() != T.matrix()) {
+    run->acceleration.reset();
+    *T_start = T;
+    associator.find(coarse, T);
+  }
+  return associator.table();
+}
+
 // The inner problem of one outer iteration (Sec. 3.1): E-step weights at the scale s (eq. 3-4)
 // and LM on SE(3), the weights refreshed at every accepted step. After a change of tolerance (the
 // EM fine phase's looser one) the first step is evaluated, so the cost drop the criterion reads
@@ -408,13 +424,13 @@ RegistrationResult Registration::align(const PointCloud& source,
   if (s.ok()) s = m.prepare_source(source, &result);
   if (!s.ok()) return refused(s, T_initial, std::move(result));
   Impl::Run run = m.start(T_initial, &result);
-  Eigen::Isometry3d T = run.frame.internal(T_initial);
+  Eigen::Isometry3d T = run.frame.internal(T_initial);  // the last solved pose
+  Eigen::Isometry3d T_next = T;                         // where the next iteration starts
   StopReason reason = StopReason::kNone;
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
     const bool coarse = run.scale.coarse();
-    m.associator.find(coarse, T);  // Sec. 3.1: up to k target points within the radius
-    const detail::AssociationTable& pairs = m.associator.table();
+    const detail::AssociationTable& pairs = m.associate(&run, coarse, T, &T_next);
     result.matched_source_points = pairs.matched;
     result.correspondences = pairs.pairs;
     if (pairs.pairs == 0) {
@@ -422,7 +438,8 @@ RegistrationResult Registration::align(const PointCloud& source,
       if (t == 1) result.status = m.no_pairs(T_initial);
       break;
     }
-    const Eigen::Isometry3d T_start = T;
+    const Eigen::Isometry3d T_start = T_next;
+    T = T_next;
     const LMSummary lm = m.solve(&run, coarse, &T);
     result.lm_iterations += lm.iterations;
     result.lm_successful_steps += lm.successful_steps;
@@ -447,15 +464,12 @@ RegistrationResult Registration::align(const PointCloud& source,
       }
       if (m.options.record_history) result.history.push_back(r);
     }
-    // Where the next iteration starts: through the coarse phase the scale is held, so every
-    // iteration applies the same map to the pose, and the pose is extrapolated along it
-    // (pose_acceleration.hpp). Not in the fine phase: there it drew lidar scans toward the
-    // optimum of the cost, farther from the ground truth than where the criterion stops.
-    if (reason == StopReason::kNone && coarse && run.scale.coarse()) {
-      T = run.acceleration.next(T_start, T);
-    } else {
-      run.acceleration.reset();
-    }
+    // Where the next iteration starts (pose_acceleration.hpp): extrapolated through the coarse
+    // phase, where the held scale makes every iteration the same map of the pose; not in the fine
+    // phase, where it drew lidar scans toward the cost's optimum, farther from the truth.
+    const bool extrapolate = reason == StopReason::kNone && coarse && run.scale.coarse();
+    T_next = extrapolate ? run.acceleration.next(T_start, T) : T;
+    if (!extrapolate) run.acceleration.reset();
   }
   m.summarise(reason, T, run, &result);
   set_verdict(&result);

@@ -80,8 +80,9 @@ struct ExpertOptions {
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule
   int acceleration_memory = 3;         // kEM coarse phase: Anderson acceleration of the outer
-                                       // loop's pose from this many past iterations, [0, 8];
-                                       // 0 = the paper's plain loop (docs/TERMINATION.md)
+                                       // loop's pose with this memory m (from the last m + 1
+                                       // iterations), [0, 8]; 0 = the paper's plain loop
+                                       // (docs/TERMINATION.md)
   double mse_ratio_threshold = 2.0;    // kCriterionMsePrev: low when MSE_t < MSE_{t-1} / this (> 0)
   int mse_patience = 3;                // kCriterionMsePrev: low iterations tolerated (>= 0)
   int successful_steps_threshold = 1;  // kCriterionSuccessfulSteps: low when steps <= this (>= 0)

@@ -130,8 +130,8 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
             str(e.cost_drop_max_motion) + "; 0 = the paper's rule)",
         kExpertGroup);
   value(app, "--acceleration", &e.acceleration_memory,
-        "em coarse phase: Anderson acceleration of the pose from this many past iterations "
-        "(default " +
+        "em coarse phase: Anderson acceleration of the pose with this memory m, from the last "
+        "m + 1 iterations (default " +
             std::to_string(e.acceleration_memory) + "; 0 = the paper's plain loop)",
         kExpertGroup);
   value(app, "--neighbour-cache", &e.neighbour_cache,
