@@ -199,9 +199,11 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &normals);
   std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(f.target, normals, 0.05, &points);
+  std::vector<ppcr::detail::PlaneInformation> information;
+  ppcr::detail::pack_plane_points(f.target, normals, 0.05, &points, &information);
   ppcr::detail::PlaneModel plane;
   plane.points = &points;
+  plane.information = &information;
   ppcr::detail::WeightParams wp;
   wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
   ppcr::detail::Evaluation out;

@@ -83,11 +83,11 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   capacity = new_capacity;
   index.resize(source_points * static_cast<std::size_t>(new_capacity));
   count.resize(source_points);
-  query.resize(source_points);
+  query_call.resize(source_points);
   bound.resize(source_points);
   path.resize(source_points);
   seed.resize(source_points);
-  ranked_at.resize(source_points);
+  ranked_call.resize(source_points);
   set_radius_sq.resize(source_points);
   invalidate();
 }
@@ -113,6 +113,7 @@ struct CallContext {
   const PointCloud& source;
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
+  std::uint32_t call;  // this call's number (NeighbourCache::calls)
   int k, capacity;
   double radius, radius_sq, candidate_radius, candidate_radius_sq;
   NeighbourCache* cache;
@@ -133,10 +134,20 @@ struct PointState {
   std::uint8_t seed = NeighbourCache::kUnseeded;
 };
 
-// The row re-ranked at p: its count, p' and rho^2 (outside_min bounds every point not kept).
+// Where source point j was at call `call`, computed as that call computed p (associate_point), or
+// false when that call's pose is no longer kept.
+bool position_at(const CallContext& c, std::uint32_t call, std::size_t j, Eigen::Vector3d* p) {
+  if (c.call - call >= NeighbourCache::kPoses) return false;
+  const NeighbourCache::Pose& pose = c.cache->poses[call % NeighbourCache::kPoses];
+  *p = pose.R * c.source[j] + pose.t;
+  return true;
+}
+
+// The row re-ranked at p: its count, p' (this call) and rho^2 (outside_min bounds every point not
+// kept).
 void set_ranked(const CallContext& c, const PointState& s, int n, double m, double outside_min) {
   c.table->count[s.j] = static_cast<std::uint16_t>(n);
-  c.cache->ranked_at[s.j] = s.p;
+  c.cache->ranked_call[s.j] = c.call;
   c.cache->set_radius_sq[s.j] = set_radius_sq(n, c.k, m, c.radius, outside_min, s.margin);
 }
 
@@ -216,7 +227,7 @@ void requery(const CallContext& c, PointState* s, bool fast, std::ptrdiff_t prev
   }
   cache.count[j] = static_cast<std::uint16_t>(found);
   cache.bound[j] = found == want ? std::sqrt(s->cand_d[want - 1]) : c.candidate_radius;
-  cache.query[j] = s->p;
+  cache.query_call[j] = c.call;
   cache.path[j] = NeighbourCache::kQueried;
   cache.seed[j] = s->seed;
   const int n =
@@ -237,7 +248,9 @@ void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
   s.cand = &cache.index[j * static_cast<std::size_t>(c.capacity)];
   // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
   // margin subtracted from rho_j when it was stored covers the rounding of either side).
-  if (cache.bound[j] >= 0.0 && (s.p - cache.ranked_at[j]).squaredNorm() < cache.set_radius_sq[j]) {
+  Eigen::Vector3d then;
+  if (cache.bound[j] >= 0.0 && position_at(c, cache.ranked_call[j], j, &then) &&
+      (s.p - then).squaredNorm() < cache.set_radius_sq[j]) {
     resort(c.target, s.p, c.table->count[j], s.out_idx, s.out_d);
     cache.path[j] = NeighbourCache::kResorted;
     return;
@@ -249,8 +262,8 @@ void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
   // A point that moved more than kFastMove x B_j since its last query is likely to move past a
   // new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
   bool fast = false;
-  if (cache.bound[j] >= 0.0) {
-    const double delta = (s.p - cache.query[j]).norm();
+  if (cache.bound[j] >= 0.0 && position_at(c, cache.query_call[j], j, &then)) {
+    const double delta = (s.p - then).norm();
     fast = delta > NeighbourCache::kFastMove * cache.bound[j];
     if (certified_rerank(c, &s, delta)) return;
   }
@@ -289,11 +302,15 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   assert(radius > 0.0);
   assert(table->k <= cache->capacity && cache->capacity <= NeighbourCache::kMaxCapacity);
   const double candidate_radius = NeighbourCache::kRadiusMargin * radius;
+  const std::uint32_t call = cache->calls++;
+  cache->poses[call % NeighbourCache::kPoses] = {T_target_source.linear(),
+                                                 T_target_source.translation()};
   const CallContext c{target_tree,
                       target,
                       source,
                       T_target_source.linear(),
                       T_target_source.translation(),
+                      call,
                       table->k,
                       cache->capacity,
                       radius,
@@ -338,20 +355,20 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   // overwritten and no row overlaps its destination.
   cache->index.resize(points * capacity);
   cache->count.resize(points);
-  cache->query.resize(points);
+  cache->query_call.resize(points);
   cache->bound.resize(points);
   cache->path.resize(points);
   cache->seed.resize(points);
-  cache->ranked_at.resize(points);
+  cache->ranked_call.resize(points);
   cache->set_radius_sq.resize(points);
   table->resize(points, table->k);
   for (std::size_t i = coarse; i-- > 1;) {
     const std::size_t j = i * stride;
     std::copy_n(&cache->index[i * capacity], capacity, &cache->index[j * capacity]);
     cache->count[j] = cache->count[i];
-    cache->query[j] = cache->query[i];
+    cache->query_call[j] = cache->query_call[i];
     cache->bound[j] = cache->bound[i];
-    cache->ranked_at[j] = cache->ranked_at[i];
+    cache->ranked_call[j] = cache->ranked_call[i];
     cache->set_radius_sq[j] = cache->set_radius_sq[i];
     std::copy_n(&table->index[i * k], k, &table->index[j * k]);
     table->count[j] = table->count[i];

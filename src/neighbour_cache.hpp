@@ -65,6 +65,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -82,10 +83,21 @@ struct NeighbourCache {
   int capacity = 0;
   std::vector<std::uint32_t> index;   // capacity slots per source point
   std::vector<std::uint16_t> count;   // candidates held (<= capacity)
-  PointCloud query;                   // q_j, the tree's frame
   std::vector<double> bound;          // B_j, cloud units; < 0 = no list yet
-  PointCloud ranked_at;               // p', where point j was last re-ranked
   std::vector<double> set_radius_sq;  // rho_j^2, squared cloud units; < 0 = none (rho_j <= 0)
+  // q_j and p' (where point j was last re-ranked), the tree's frame, are not stored: each is the
+  // pose of one of the last kPoses calls applied to the source point, recomputed as that call
+  // computed it, to the bit. A list or certificate from an older call is not used (the point is
+  // queried again: the same row, as every path gives).
+  std::vector<std::uint32_t> query_call;   // the call whose pose gives q_j
+  std::vector<std::uint32_t> ranked_call;  // the call whose pose gives p'
+  struct Pose {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+  };
+  static constexpr std::uint32_t kPoses = 256;
+  std::array<Pose, kPoses> poses;  // call c's pose at poses[c % kPoses]
+  std::uint32_t calls = 0;         // associate_cached calls so far
   // The path each point took in the last associate_cached.
   enum Path : std::uint8_t { kReranked = 0, kQueried = 1, kResorted = 2 };
   std::vector<std::uint8_t> path;

@@ -66,8 +66,10 @@ inline void add_plane_point(const Eigen::Vector3d& p, const Sym3& o, const Eigen
 }  // namespace
 
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, std::vector<PlanePoint>* out) {
+                       double epsilon, std::vector<PlanePoint>* out,
+                       std::vector<PlaneInformation>* information) {
   out->resize(target.size());
+  if (information != nullptr) information->resize(target.size());
   for (std::size_t i = 0; i < target.size(); ++i) {
     PlanePoint& q = (*out)[i];
     const Eigen::Vector3d& n = normals[i];
@@ -75,15 +77,17 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
     q.n = n;
     q.a = omega_isotropic(n, epsilon);
     const Eigen::Vector3d b = q.a * q.y + n * n.dot(q.y);  // Omega y
-    q.omega_xx_yy[0] = q.a + n.x() * n.x();
-    q.omega_xx_yy[1] = q.a + n.y() * n.y();
-    q.omega_xy_yz[0] = n.x() * n.y();
-    q.omega_xy_yz[1] = n.y() * n.z();
-    q.omega_xz_zz[0] = n.x() * n.z();
-    q.omega_xz_zz[1] = q.a + n.z() * n.z();
-    q.b_xy[0] = b.x();
-    q.b_xy[1] = b.y();
     q.b_z = b.z();
+    if (information == nullptr) continue;
+    PlaneInformation& o = (*information)[i];
+    o.omega_xx_yy[0] = q.a + n.x() * n.x();
+    o.omega_xx_yy[1] = q.a + n.y() * n.y();
+    o.omega_xy_yz[0] = n.x() * n.y();
+    o.omega_xy_yz[1] = n.y() * n.z();
+    o.omega_xz_zz[0] = n.x() * n.z();
+    o.omega_xz_zz[1] = q.a + n.z() * n.z();
+    o.b_xy[0] = b.x();
+    o.b_xy[1] = b.y();
   }
 }
 
@@ -128,8 +132,8 @@ inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const 
 // U = sum_k u_k, in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for two); then
 // Obar = c O and ebar = c B - Obar p (PlanePoint). Scales w by c.
 inline void accumulate_plane(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
-                             const PlanePoint* points, const double* r, double c, double* w,
-                             BlockSums* s) {
+                             const PlanePoint* points, const PlaneInformation* information,
+                             const double* r, double c, double* w, BlockSums* s) {
   Eigen::Array2d o_xx_yy = Eigen::Array2d::Zero();
   Eigen::Array2d o_xy_yz = Eigen::Array2d::Zero();
   Eigen::Array2d o_xz_zz = Eigen::Array2d::Zero();
@@ -137,13 +141,13 @@ inline void accumulate_plane(const Eigen::Vector3d& p, std::size_t count, const 
   double b_z = 0.0, U = 0.0, ur = 0.0;
   for (std::size_t m = 0; m < count; ++m) {
     const double u = w[m];
-    const PlanePoint& q = points[idx[m]];
+    const PlaneInformation& o = information[idx[m]];
     const Eigen::Array2d uu = Eigen::Array2d::Constant(u);
-    o_xx_yy += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xx_yy);
-    o_xy_yz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xy_yz);
-    o_xz_zz += uu * Eigen::Map<const Eigen::Array2d>(q.omega_xz_zz);
-    b_xy += uu * Eigen::Map<const Eigen::Array2d>(q.b_xy);
-    b_z += u * q.b_z;
+    o_xx_yy += uu * Eigen::Map<const Eigen::Array2d>(o.omega_xx_yy);
+    o_xy_yz += uu * Eigen::Map<const Eigen::Array2d>(o.omega_xy_yz);
+    o_xz_zz += uu * Eigen::Map<const Eigen::Array2d>(o.omega_xz_zz);
+    b_xy += uu * Eigen::Map<const Eigen::Array2d>(o.b_xy);
+    b_z += u * points[idx[m]].b_z;
     U += u;
     ur += u * r[m];
     w[m] *= c;
@@ -246,6 +250,8 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
   const PlanePoint* points = kPlane ? plane->points->data() : nullptr;
+  const PlaneInformation* information =
+      kPlane && !kPairNormals ? plane->information->data() : nullptr;
   // Pair normals (source normals on) replace the target points' normals: formed per point from
   // the row's source normal (kPairNormals: a template parameter, so that the per-pair choice is
   // compiled out).
@@ -292,7 +298,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       // E-step at this pose (eq. 2-4): w = c * u.
       const PointWeights pw = e_step(r, r_min, count, w);
       if constexpr (kPlane && !kPairNormals) {
-        accumulate_plane(p, count, idx, points, r, pw.c, w, &s);
+        accumulate_plane(p, count, idx, points, information, r, pw.c, w, &s);
       } else if constexpr (kPlane) {
         accumulate_pair_normals(p, count, idx, points, normals, epsilon, r, pw.c, w, &s);
       } else {

@@ -44,29 +44,37 @@ struct WeightParams {
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
-/// One target point of the plane model in two cache lines, gathered by the pass with one random
-/// access per pair. The first line holds what the squared error r = a |e|^2 + (n . e)^2 needs
-/// (and the pair normals and normal_information read); the second Omega = a I + n n^T and
-/// b = Omega y, fixed per target point, so that the pass sums
-///   Obar_j / c = sum_k u_k Omega_k   and   ebar_j / c = sum_k u_k b_k - (Obar_j / c) p_j
-/// (ebar_j = sum_k w_kj Omega_k (y_k - p_j)) with one product and sum per pair of numbers instead
-/// of forming Omega_k e_kj from n_k and e_kj per pair. The cost of that form: each term of ebar_j
-/// rounds by about eps |y_k| instead of eps |e_kj|, i.e. the step by about eps |y|, the resolution
-/// of the (centred) coordinates themselves (docs/PERFORMANCE.md).
+/// One target point of the plane model in one cache line, gathered by the pass with one random
+/// access per pair: what the squared error r = a |e|^2 + (n . e)^2 needs (and the pair normals,
+/// normal_information and the alignment measures read), and b_z of PlaneInformation.
 struct alignas(64) PlanePoint {
   Eigen::Vector3d y;  // position (the target cloud's point)
   double a;           // Omega = a I + n n^T: a = epsilon with a normal, 1 without
   Eigen::Vector3d n;  // unit normal, or zero for "no normal"
-  double b_z;         // b = Omega y
+  double b_z;         // b = Omega y (z; x and y in PlaneInformation)
+};
+static_assert(sizeof(PlanePoint) == 64, "PlanePoint: one cache line");
+
+/// The rest of a target point's Omega = a I + n n^T and b = Omega y, fixed per target point, for
+/// the pass with the target's normals (not with pair normals, which form Omega per pair): it sums
+///   Obar_j / c = sum_k u_k Omega_k   and   ebar_j / c = sum_k u_k b_k - (Obar_j / c) p_j
+/// (ebar_j = sum_k w_kj Omega_k (y_k - p_j)) with one product and sum per pair of numbers instead
+/// of forming Omega_k e_kj from n_k and e_kj per pair. The cost of that form: each term of ebar_j
+/// rounds by about eps |y_k| instead of eps |e_kj|, i.e. the step by about eps |y|, the resolution
+/// of the (centred) coordinates themselves (docs/PERFORMANCE.md). Kept apart from PlanePoint so
+/// that the pair normals' pass (the default) holds and reads one cache line per target point.
+struct alignas(64) PlaneInformation {
   // Omega's six entries and (b_x, b_y), in the pass's pairs of lanes.
   double omega_xx_yy[2], omega_xy_yz[2], omega_xz_zz[2], b_xy[2];
 };
-static_assert(sizeof(PlanePoint) == 128, "PlanePoint: two cache lines");
+static_assert(sizeof(PlaneInformation) == 64, "PlaneInformation: one cache line");
 
-/// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match), with Omega and
-/// b = a y + n (n . y). Set-up: allocates.
+/// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match), with b_z of
+/// b = a y + n (n . y), and, when `information` is given, Omega and b's x and y into
+/// (*information)[i]. Set-up: allocates.
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, std::vector<PlanePoint>* out);
+                       double epsilon, std::vector<PlanePoint>* out,
+                       std::vector<PlaneInformation>* information = nullptr);
 
 /// What the plane pass forms the pairs' normals from (pair_normals.hpp): the source normals of
 /// the association table's rows, one per row, and the rotation R_target_source at which the table
@@ -89,6 +97,8 @@ struct PlaneModel {
   // Per target point (pack_plane_points), same order and positions as the target cloud passed
   // to evaluate().
   const std::vector<PlanePoint>* points = nullptr;
+  // The same points' Omega and b (pack_plane_points); needed without pair_source, unused with it.
+  const std::vector<PlaneInformation>* information = nullptr;
   double epsilon = 0.05;  // in-plane weight (a of the pair normals; points carry their own a)
   // Optional (pair_normals.hpp): when set, each pair's normal, the mean of its target point's
   // and its source point's, replaces its target point's normal in Omega (fixed for the pass: not

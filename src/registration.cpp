@@ -120,6 +120,7 @@ struct Registration::Impl {
   detail::KdTree tree;
   // Plane model only: the target's points and normals.
   std::vector<detail::PlanePoint> target_plane_points;
+  std::vector<detail::PlaneInformation> target_plane_information;  // without pair normals
   // The target's spacing, and with the plane model its surface noise and the normal fits' typical
   // reach (target_normals.hpp); internal unit.
   SurfaceFits target_fits;
@@ -270,8 +271,10 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
   radius = solver.radius * target.unit;
   if (plane_model()) {
     detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
-                              &target_plane_points);
+                              &target_plane_points,
+                              pair_normals() ? nullptr : &target_plane_information);
     plane.points = &target_plane_points;
+    plane.information = pair_normals() ? nullptr : &target_plane_information;
     plane.epsilon = solver.expert.plane_epsilon;
   }
   associator.set_target(&tree, &target.centered);

@@ -1,30 +1,60 @@
 // Steady state allocation-free (issue #6): repeated registrations with same-size clouds allocate
-// nothing inside the outer loop. Reference: a counting replacement of the global operator new
-// (every heap allocation of the process goes through it or through malloc, which Eigen and the
-// standard containers reach only via operator new here).
+// nothing inside the outer loop. Reference: a counting replacement of malloc and its relatives
+// (glibc's documented way to replace the allocator, forwarding to its own __libc_* functions):
+// every heap allocation of the process reaches one of them, operator new (the standard
+// containers) and Eigen's aligned allocation (dynamic matrices) alike.
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <cerrno>
+#include <cmath>
 #include <cstdlib>
-#include <new>
 #include <vector>
 
 #include "core_test_util.hpp"
+#include "pose_acceleration.hpp"
 #include "ppcr/registration.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
+long count_one() { return g_allocations.fetch_add(1, std::memory_order_relaxed); }
 }  // namespace
 
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* __libc_memalign(std::size_t alignment, std::size_t size);
+void __libc_free(void* p);
+
+void* malloc(std::size_t size) {
+  count_one();
+  return __libc_malloc(size);
 }
-void* operator new[](std::size_t size) { return ::operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* calloc(std::size_t count, std::size_t size) {
+  count_one();
+  return __libc_calloc(count, size);
+}
+void* realloc(void* p, std::size_t size) {
+  count_one();
+  return __libc_realloc(p, size);
+}
+void free(void* p) { __libc_free(p); }
+void* memalign(std::size_t alignment, std::size_t size) {
+  count_one();
+  return __libc_memalign(alignment, size);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t size) {
+  count_one();
+  return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
+  count_one();
+  void* p = __libc_memalign(alignment, size);
+  if (p == nullptr) return ENOMEM;
+  *out = p;
+  return 0;
+}
+}
 
 namespace {
 
@@ -104,4 +134,20 @@ TEST_CASE("the outer loop allocates nothing once a Registration has run once", "
       }
     }
   }
+}
+
+TEST_CASE("the pose acceleration allocates nothing, also with linearly dependent columns",
+          "[allocation]") {
+  // A creep along one line at halving speed: every difference column lies exactly along the same
+  // axis (pure translations by powers of two), so the least-squares problem has rank 1.
+  ppcr::detail::PoseAcceleration acceleration(3, 1.0, 10.0);
+  Eigen::Isometry3d x = Eigen::Isometry3d::Identity();
+  const long before = g_allocations.load();
+  for (int i = 1; i <= 6; ++i) {
+    Eigen::Isometry3d g = x;
+    g.translation().x() += std::ldexp(1.0, -i);
+    x = acceleration.next(x, g);
+    REQUIRE(x.matrix().allFinite());
+  }
+  CHECK(g_allocations.load() - before == 0);
 }

@@ -345,9 +345,11 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
   std::vector<Eigen::Vector3d> normals(scene.target.size());
   for (Eigen::Vector3d& n : normals) n = core_test::random_unit_vector(rng);
   std::vector<ppcr::detail::PlanePoint> plane_points;
-  ppcr::detail::pack_plane_points(scene.target, normals, 0.05, &plane_points);
+  std::vector<ppcr::detail::PlaneInformation> plane_information;
+  ppcr::detail::pack_plane_points(scene.target, normals, 0.05, &plane_points, &plane_information);
   ppcr::detail::PlaneModel plane;
   plane.points = &plane_points;
+  plane.information = &plane_information;
   plane.epsilon = 0.05;
   for (const ppcr::detail::PlaneModel* model : {static_cast<ppcr::detail::PlaneModel*>(nullptr),
                                                 static_cast<ppcr::detail::PlaneModel*>(&plane)}) {

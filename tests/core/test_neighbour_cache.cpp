@@ -224,13 +224,41 @@ TEST_CASE("associate_cached: the set certificate holds inside rho and lets go ou
   }
 }
 
+TEST_CASE("lists and certificates older than the kept poses are queried again, same table",
+          "[association]") {
+  // The cache keeps the poses of its last kPoses calls, from which it recomputes where a point
+  // was queried and re-ranked. At one pose every call after the first re-sorts every row (the set
+  // certificate) without re-ranking it, so at call kPoses the first call's pose is gone: every
+  // point is queried again, and the table is still the fresh association's.
+  const Scene scene(53, 2000, 300, 0.8);
+  REQUIRE(scene.built);
+  const PointCloud &target = scene.target, &source = scene.source;
+  const KdTree& tree = scene.tree;
+  NeighbourCache cache;
+  cache.resize(source.size(), 12);
+  AssociationTable table;
+  table.resize(source.size(), 8);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.01, -0.02, 0.03);
+  for (std::uint32_t call = 0; call < NeighbourCache::kPoses; ++call) {
+    ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+    REQUIRE(cache.last_queries == (call == 0 ? source.size() : 0u));
+  }
+  ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == source.size());
+  CHECK(table_mismatch(table, source, target, T, 0.3 * 0.3) == "");
+  // And the lists it made then serve again.
+  ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+  CHECK(cache.last_queries == 0u);
+  CHECK(table_mismatch(table, source, target, T, 0.3 * 0.3) == "");
+}
+
 TEST_CASE("associate_cached queries only where the lists cannot prove the answer",
           "[association]") {
-  Rng rng(52);
-  const PointCloud target = core_test::uniform_cloud(rng, 4000, -1.0, 1.0);
-  const PointCloud source = core_test::uniform_cloud(rng, 1000, -0.8, 0.8);  // interior
-  KdTree tree;
-  REQUIRE(tree.build(target).ok());
+  const Scene scene(52, 4000, 1000, 0.8);  // the source in the interior
+  REQUIRE(scene.built);
+  const PointCloud &target = scene.target, &source = scene.source;
+  const KdTree& tree = scene.tree;
   NeighbourCache cache;
   cache.resize(source.size(), 18);
   AssociationTable table;
@@ -520,7 +548,8 @@ TEST_CASE(
             v.begin() + static_cast<std::ptrdiff_t>((r + 1) * width));
       };
       misplaced += cache.count[j] != before.count[i] || cache.bound[j] != before.bound[i] ||
-                   cache.query[j] != before.query[i] || cache.ranked_at[j] != before.ranked_at[i] ||
+                   cache.query_call[j] != before.query_call[i] ||
+                   cache.ranked_call[j] != before.ranked_call[i] ||
                    cache.set_radius_sq[j] != before.set_radius_sq[i] ||
                    row(cache.index, j, capacity) != row(before.index, i, capacity) ||
                    table.count[j] != table_before.count[i] ||

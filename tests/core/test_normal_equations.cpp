@@ -179,8 +179,9 @@ Eigen::Matrix3d pair_rotation() {
 struct PackedPlane {
   PackedPlane(const Problem& pb, std::vector<Eigen::Vector3d> target_normals, double epsilon)
       : normals(std::move(target_normals)) {
-    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points);
+    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points, &information);
     model.points = &points;
+    model.information = &information;
     model.epsilon = epsilon;
   }
   PackedPlane(const Problem& pb, std::uint64_t normals_seed, double epsilon)
@@ -189,6 +190,7 @@ struct PackedPlane {
   PackedPlane& operator=(const PackedPlane&) = delete;
   std::vector<Eigen::Vector3d> normals;
   std::vector<ppcr::detail::PlanePoint> points;
+  std::vector<ppcr::detail::PlaneInformation> information;
   ppcr::detail::PlaneModel model;
 };
 
@@ -733,22 +735,24 @@ TEST_CASE("pack_plane_points holds Omega = a I + n n^T and b = Omega y", "[norma
   for (double epsilon : {0.05, 0.5}) {
     const PackedPlane packed(pb, 75, epsilon);  // every fifth point without a normal
     REQUIRE(packed.points.size() == pb.target.size());
+    REQUIRE(packed.information.size() == pb.target.size());
     for (std::size_t i = 0; i < pb.target.size(); ++i) {
       const ppcr::detail::PlanePoint& q = packed.points[i];
+      const ppcr::detail::PlaneInformation& o = packed.information[i];
       const Eigen::Matrix3d O = omega(packed.normals[i], epsilon);
       const Eigen::Vector3d b = O * pb.target[i];
       CHECK(q.y == pb.target[i]);
       CHECK(q.n == packed.normals[i]);
       CHECK(q.a == (packed.normals[i].squaredNorm() > 0.0 ? epsilon : 1.0));
       const Eigen::Matrix3d got =
-          (Eigen::Matrix3d() << q.omega_xx_yy[0], q.omega_xy_yz[0], q.omega_xz_zz[0],
-           q.omega_xy_yz[0], q.omega_xx_yy[1], q.omega_xy_yz[1], q.omega_xz_zz[0], q.omega_xy_yz[1],
-           q.omega_xz_zz[1])
+          (Eigen::Matrix3d() << o.omega_xx_yy[0], o.omega_xy_yz[0], o.omega_xz_zz[0],
+           o.omega_xy_yz[0], o.omega_xx_yy[1], o.omega_xy_yz[1], o.omega_xz_zz[0], o.omega_xy_yz[1],
+           o.omega_xz_zz[1])
               .finished();
       CHECK((got - O).cwiseAbs().maxCoeff() < 1e-15);
       // Both forms of Omega y round differently (a y + n (n . y) against the product): 1e-12
       // still catches any misplaced lane.
-      CHECK((Eigen::Vector3d(q.b_xy[0], q.b_xy[1], q.b_z) - b).cwiseAbs().maxCoeff() <
+      CHECK((Eigen::Vector3d(o.b_xy[0], o.b_xy[1], q.b_z) - b).cwiseAbs().maxCoeff() <
             1e-12 * (b.norm() + pb.target[i].norm()));
     }
   }
