@@ -130,7 +130,7 @@ inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const 
 
 // Plane model, target normals: O = sum_k u_k Omega_k (symmetric: 6 sums), B = sum_k u_k b_k,
 // U = sum_k u_k, in pairs of lanes (Eigen::Array2d: one SSE2 / NEON operation for two); then
-// Obar = c O and ebar = c B - Obar p (PlanePoint). Scales w by c.
+// Obar = c O and ebar = c B - Obar p (PlaneInformation). Scales w by c.
 inline void accumulate_plane(const Eigen::Vector3d& p, std::size_t count, const std::uint32_t* idx,
                              const PlanePoint* points, const PlaneInformation* information,
                              const double* r, double c, double* w, BlockSums* s) {
@@ -324,6 +324,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   assert(source.size() <= blocks_.size() * kBlockSize);
   assert(!use_pair_normals ||
          pair_normals_.size() >= blocks_.size() * static_cast<std::size_t>(assoc.k));
+  assert(!use_plane || use_pair_normals || plane->information != nullptr);
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
         e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
