@@ -334,6 +334,7 @@ struct Registration::Impl::Run {
   Frame frame;
   double reference_length;  // the radius, or the source's extent if smaller (internal unit)
   CloudMoments moments;     // of the internal source, for the MSE w.r.t. the previous pose
+  double source_rms;        // its RMS radius (the length of rotations: acceleration, degeneracy)
   TerminationMonitor monitor;
   detail::ScaleSchedule scale;
   detail::LMProblem problem;
@@ -362,19 +363,19 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   lm.resize(n, o.max_neighbours);
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
   const CloudMoments moments = compute_moments(source.centered);
+  const double source_rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
   const LMOptions coarse_lm = detail::lm_options(o);
   const Frame frame{target.origin, source.origin, target.unit};
   return Run{
       frame,
       reference_length,
       moments,
+      source_rms,
       TerminationMonitor(detail::termination_criteria(o), moments, frame.internal(T_initial)),
       detail::ScaleSchedule(detail::schedule_options(o, target_fits.surface_noise),
                             reference_length),
       problem(reference_length, source_extent),
-      detail::PoseAcceleration(o.expert.acceleration_memory,
-                               std::sqrt(std::max(moments.covariance.trace(), 1e-300)),
-                               kAccelerationGain),
+      detail::PoseAcceleration(o.expert.acceleration_memory, source_rms, kAccelerationGain),
       coarse_lm,
       detail::fine_function_tolerance(o),
       coarse_lm.function_tolerance};
@@ -535,8 +536,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   if (!planes) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
       associator.points(), associator.table(), T, lm.weights().data(), target_plane_points);
-  const double rms = std::sqrt(std::max(run.moments.covariance.trace(), 1e-300));
-  result->degenerate_directions = detail::degenerate_directions(H_normal, rms);
+  result->degenerate_directions = detail::degenerate_directions(H_normal, run.source_rms);
 }
 
 RegistrationResult align(const PointCloud& source, const PointCloud& target,
