@@ -549,8 +549,8 @@ Result register_clouds(const py::handle& source, const py::handle& target,
                        const py::handle& initial, const py::handle& callback,
                        const py::kwargs& kwargs) {
   RegistrationOptions options = to_options(kwargs);
-  const ppcr::PointCloud source_cloud = to_cloud(source, "source");
-  const ppcr::PointCloud target_cloud = to_cloud(target, "target");
+  ppcr::PointCloud source_cloud = to_cloud(source, "source");
+  ppcr::PointCloud target_cloud = to_cloud(target, "target");
   const Eigen::Isometry3d T_initial =
       initial.is_none() ? Eigen::Isometry3d::Identity() : to_transform(initial);
   if (!callback.is_none() && !PyCallable_Check(callback.ptr())) {
@@ -567,7 +567,15 @@ Result register_clouds(const py::handle& source, const py::handle& target,
   {
     py::gil_scoped_release release;
     const auto start = std::chrono::steady_clock::now();
-    r = ppcr::align(source_cloud, target_cloud, options, T_initial);
+    // The converted clouds are freed once the registration holds its prepared copies.
+    ppcr::Registration registration(options);
+    const ppcr::Status target_status = registration.set_target(target_cloud);
+    ppcr::PointCloud().swap(target_cloud);
+    if (target_status.ok()) {
+      r = registration.align(std::move(source_cloud), T_initial);
+    } else {
+      r.status = target_status;
+    }
     time_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }

@@ -24,42 +24,39 @@ Status too_few(const char* name, std::size_t kept, std::size_t input, std::size_
                     "); at least 3 are needed");
 }
 
-// Per-axis median of the cloud, O(n) (nth_element).
-Eigen::Vector3d median_origin(const PointCloud& cloud, std::vector<double>* scratch) {
+// Per-axis median of the cloud, O(n) (nth_element), reordering it: no copy of a coordinate.
+Eigen::Vector3d median_origin(PointCloud* cloud) {
   Eigen::Vector3d origin;
-  std::vector<double>& values = *scratch;
-  values.resize(cloud.size());
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(cloud.size() / 2);
+  const auto mid = cloud->begin() + static_cast<std::ptrdiff_t>(cloud->size() / 2);
   for (int axis = 0; axis < 3; ++axis) {
-    for (std::size_t i = 0; i < cloud.size(); ++i) values[i] = cloud[i][axis];
-    std::nth_element(values.begin(), mid, values.end());
-    origin[axis] = *mid;
+    std::nth_element(
+        cloud->begin(), mid, cloud->end(),
+        [axis](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a[axis] < b[axis]; });
+    origin[axis] = (*mid)[axis];
   }
   return origin;
 }
 
-// Sets out->centered[i] = internal(i) and keeps the points whose squared norm there is finite
-// (no squared distance to the others is), in order, counting the dropped ones.
-template <class Internal>
-void keep_finite(PreparedCloud* out, Internal internal) {
-  out->centered.resize(out->points.size());
+// Replaces each point c of out->centered by map(c) and keeps those whose squared norm is then
+// finite (no squared distance to the others is), in order, counting the dropped ones.
+template <class Map>
+void keep_finite(PreparedCloud* out, Map map) {
+  PointCloud& points = out->centered;
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < out->points.size(); ++i) {
-    const Eigen::Vector3d c = internal(i);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = map(points[i]);
     if (!std::isfinite(c.squaredNorm())) continue;
-    out->points[kept] = out->points[i];
-    out->centered[kept] = c;
-    ++kept;
+    points[kept++] = c;
   }
-  out->dropped += out->points.size() - kept;
-  out->points.resize(kept);
-  out->centered.resize(kept);
+  out->dropped += points.size() - kept;
+  points.resize(kept);
 }
 
-// Shifts out->points by their median into out->centered.
+// Shifts the points by their median.
 void center(PreparedCloud* out) {
-  out->origin = median_origin(out->points, &out->scratch);
-  keep_finite(out, [out](std::size_t i) { return Eigen::Vector3d(out->points[i] - out->origin); });
+  out->origin = median_origin(&out->centered);
+  const Eigen::Vector3d origin = out->origin;
+  keep_finite(out, [origin](const Eigen::Vector3d& p) { return Eigen::Vector3d(p - origin); });
 }
 
 double max_abs(const PointCloud& centered) {
@@ -86,7 +83,8 @@ Status check_resolution(const char* name, const PreparedCloud& cloud) {
 // Divides the centred points by out->unit (a source far outside the target's scale can then
 // overflow).
 void divide_by_unit(PreparedCloud* out) {
-  keep_finite(out, [out](std::size_t i) { return Eigen::Vector3d(out->centered[i] / out->unit); });
+  const double unit = out->unit;
+  keep_finite(out, [unit](const Eigen::Vector3d& c) { return Eigen::Vector3d(c / unit); });
 }
 
 }  // namespace
@@ -97,21 +95,21 @@ double internal_unit(double radius, double target_extent) {
 
 Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
                      const char* name, PreparedCloud* out) {
-  out->points.clear();
-  out->points.reserve(in.size());
+  PointCloud& points = out->centered;  // the user's frame until center()
+  points.clear();
+  points.reserve(in.size());
   for (const Eigen::Vector3d& p : in) {
-    if (p.allFinite()) out->points.push_back(p);
+    if (p.allFinite()) points.push_back(p);
   }
-  out->dropped = in.size() - out->points.size();
-  if (voxel > 0.0 && !out->points.empty()) {
+  out->dropped = in.size() - points.size();
+  if (voxel > 0.0 && !points.empty()) {
     PointCloud filtered;
-    Status s = voxel_downsample(out->points, voxel, &filtered);
+    Status s = voxel_downsample(points, voxel, &filtered);
     if (!s.ok())
       return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
-    out->points = std::move(filtered);
+    points = std::move(filtered);
   }
-  if (out->points.size() < 3)
-    return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, voxel);
   center(out);
   out->extent = max_abs(out->centered);
   Status s = check_resolution(name, *out);
@@ -123,17 +121,16 @@ Status prepare_cloud(const PointCloud& in, double voxel, double radius, double u
                       "'s internal unit " + num(out->unit) +
                       ") are subnormal in double precision; express the clouds in larger units");
   }
-  const std::size_t before = out->points.size();
+  const std::size_t before = points.size();
   divide_by_unit(out);
-  if (out->points.size() < 3 && out->points.size() < before) {
+  if (points.size() < 3 && points.size() < before) {
     return Status(StatusCode::kInvalidArgument,
                   "radius " + num(radius) + " is too small for the " + name + ", which spans " +
                       num(out->extent) + ": in units of " + num(out->unit) +
                       " its squared distances overflow a double; express the clouds in other "
                       "units or raise the radius");
   }
-  if (out->points.size() < 3)
-    return too_few(name, out->points.size(), in.size(), out->dropped, voxel);
+  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, voxel);
   return Status::Ok();
 }
 

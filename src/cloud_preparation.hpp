@@ -24,13 +24,15 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 struct PreparedCloud {
-  PointCloud points;    // kept points, in the user's frame
-  PointCloud centered;  // the same points in the internal frame: (p - origin) / unit
+  // The kept points in the internal frame, (p - origin) / unit; the only copy: the user's frame
+  // is origin + unit * c, to rounding (user_point()).
+  PointCloud centered;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  double unit = 1.0;            // internal length unit, in cloud units
-  double extent = 0.0;          // max |p - origin| per axis over the kept points, cloud units
-  std::size_t dropped = 0;      // non-finite, or too far from the origin for a finite squared norm
-  std::vector<double> scratch;  // for the median, kept so that a same-size cloud allocates nothing
+  double unit = 1.0;        // internal length unit, in cloud units
+  double extent = 0.0;      // max |p - origin| per axis over the kept points, cloud units
+  std::size_t dropped = 0;  // non-finite, or too far from the origin for a finite squared norm
+
+  Eigen::Vector3d user_point(std::size_t i) const { return origin + unit * centered[i]; }
 };
 
 /// The internal length unit for a registration with this radius onto a target of this extent
@@ -43,9 +45,10 @@ double internal_unit(double radius, double target_extent);
 
 /// Prepares `in` into *out (its buffers reused): drops non-finite points, filters, centres and
 /// divides by `unit` (> 0), or by internal_unit(radius, extent) of this very cloud when `unit`
-/// is 0 (the target). name ("source" or "target") prefixes every message. Fails with
-/// kEmptyCloud below 3 usable points, and with kInvalidArgument for a cloud so far from the
-/// coordinate origin that a double cannot resolve a thousandth of its extent there or for a
+/// is 0 (the target). The points are prepared in one buffer, in place: their order is not kept
+/// (the caller sorts them, spatial_order.hpp). name ("source" or "target") prefixes every message.
+/// Fails with kEmptyCloud below 3 usable points, and with kInvalidArgument for a cloud so far from
+/// the coordinate origin that a double cannot resolve a thousandth of its extent there or for a
 /// unit a double cannot divide by (subnormal).
 Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
                      const char* name, PreparedCloud* out);

@@ -67,10 +67,11 @@ struct Frame {
   }
 };
 
-std::string extent(const PointCloud& cloud, const Eigen::Isometry3d& T) {
+// The box a prepared cloud's points span in the user's frame after T, for messages.
+std::string extent(const detail::PreparedCloud& cloud, const Eigen::Isometry3d& T) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
-  for (const Eigen::Vector3d& p : cloud) {
-    const Eigen::Vector3d q = T * p;
+  for (std::size_t i = 0; i < cloud.centered.size(); ++i) {
+    const Eigen::Vector3d q = T * cloud.user_point(i);
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
@@ -154,6 +155,9 @@ struct Registration::Impl {
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
   Status prepare_source(const PointCloud& cloud, RegistrationResult* result);
+  Status prepare(const PointCloud& cloud, const Eigen::Isometry3d& T_initial,
+                 RegistrationResult* result);
+  RegistrationResult iterate(const Eigen::Isometry3d& T_initial, RegistrationResult result);
   detail::LMProblem problem(double step_reference, double source_extent) const;
   Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
   const detail::AssociationTable& associate(Run* run, bool coarse, const Eigen::Isometry3d& T,
@@ -204,10 +208,13 @@ Status Registration::set_target_to_source() {
   // The source was centred, divided by the previous target's unit and Z-ordered as a target
   // would be. Any unit serves (internal_unit() keeps the numbers near 1), so it is kept unless
   // it is more than 2x off the cloud's own; then the target is prepared again from the filtered
-  // points (a chain of targets never drifts from its clouds' scale).
+  // points, mapped back to the user's frame to rounding (a chain of targets never drifts from
+  // its clouds' scale).
   const double ratio = detail::internal_unit(m.unit_radius(), m.source.extent) / m.source.unit;
   if (!(ratio >= 0.5 && ratio <= 2.0)) {
-    const Status s = m.make_target(m.source.points, 0.0);  // already filtered
+    PointCloud filtered(m.source.centered.size());  // back in the user's frame, to rounding
+    for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = m.source.user_point(i);
+    const Status s = m.make_target(filtered, 0.0);
     m.target.dropped = m.source.dropped;
     return s;
   }
@@ -300,9 +307,9 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
       detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
-  detail::spatial_sort(&source.centered, &source.points, &sort_scratch);
-  result->source_points = source.points.size();
-  result->target_points = target.points.size();
+  detail::spatial_sort(&source.centered, nullptr, &sort_scratch);
+  result->source_points = source.centered.size();
+  result->target_points = target.centered.size();
   result->target_non_finite = target.dropped;
   result->target_surface_noise = target.unit * target_fits.surface_noise;
   result->target_spacing = target.unit * target_fits.spacing;
@@ -355,7 +362,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   for (const Eigen::Vector3d& c : source.centered) extent_sq = std::max(extent_sq, c.squaredNorm());
   const double source_extent = std::sqrt(extent_sq);
   const double reference_length = std::min(o.radius, source_extent);
-  const std::size_t n = source.points.size();
+  const std::size_t n = source.centered.size();
   const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
                                               detail::coarse_stride(o, n), o.num_threads};
   associator.prepare(settings, source.centered, pair_normals() ? &source_normals : nullptr);
@@ -414,59 +421,76 @@ Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
   return Status(StatusCode::kNoCorrespondences,
                 "no source point has a target point within radius " + num(radius) +
                     (automatic ? " (automatic: give a radius that covers the misalignment)" : "") +
-                    "; source (moved by the initial guess) spans " +
-                    extent(source.points, T_initial) + ", target spans " +
-                    extent(target.points, Eigen::Isometry3d::Identity()));
+                    "; source (moved by the initial guess) spans " + extent(source, T_initial) +
+                    ", target spans " + extent(target, Eigen::Isometry3d::Identity()));
 }
 
 RegistrationResult Registration::align(const PointCloud& source,
                                        const Eigen::Isometry3d& T_initial) {
-  Impl& m = *impl_;
   RegistrationResult result;
-  m.has_source = false;  // until this call's source is prepared
-  Status s = m.check_input(T_initial);
-  if (s.ok()) s = m.prepare_source(source, &result);
+  const Status s = impl_->prepare(source, T_initial, &result);
   if (!s.ok()) return refused(s, T_initial, std::move(result));
-  Impl::Run run = m.start(T_initial, &result);
+  return impl_->iterate(T_initial, std::move(result));
+}
+
+RegistrationResult Registration::align(PointCloud&& source, const Eigen::Isometry3d& T_initial) {
+  RegistrationResult result;
+  const Status s = impl_->prepare(source, T_initial, &result);
+  PointCloud().swap(source);  // the iterations need only the prepared copy
+  if (!s.ok()) return refused(s, T_initial, std::move(result));
+  return impl_->iterate(T_initial, std::move(result));
+}
+
+Status Registration::Impl::prepare(const PointCloud& cloud, const Eigen::Isometry3d& T_initial,
+                                   RegistrationResult* result) {
+  has_source = false;  // until this call's source is prepared
+  const Status s = check_input(T_initial);
+  return s.ok() ? prepare_source(cloud, result) : s;
+}
+
+// The outer loop (Sec. 3): associate, solve, ask the criterion, update the EM scale.
+RegistrationResult Registration::Impl::iterate(const Eigen::Isometry3d& T_initial,
+                                               RegistrationResult result) {
+  Run run = start(T_initial, &result);
   Eigen::Isometry3d T = run.frame.internal(T_initial);  // the last solved pose
   Eigen::Isometry3d T_next = T;                         // where the next iteration starts
   StopReason reason = StopReason::kNone;
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
     const bool coarse = run.scale.coarse();
-    const detail::AssociationTable& pairs = m.associate(&run, coarse, T, &T_next);
+    const detail::AssociationTable& pairs = associate(&run, coarse, T, &T_next);
     result.matched_source_points = pairs.matched;
     result.correspondences = pairs.pairs;
     if (pairs.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
-      if (t == 1) result.status = m.no_pairs(T_initial);
+      if (t == 1) result.status = no_pairs(T_initial);
       break;
     }
     const Eigen::Isometry3d T_start = T_next;
     T = T_next;
-    const LMSummary lm = m.solve(&run, coarse, &T);
-    result.lm_iterations += lm.iterations;
-    result.lm_successful_steps += lm.successful_steps;
-    if (t == 1) result.initial_cost = run.frame.area(lm.initial_cost);
-    result.final_cost = run.frame.area(lm.final_cost);
+    const LMSummary inner = solve(&run, coarse, &T);
+    result.lm_iterations += inner.iterations;
+    result.lm_successful_steps += inner.successful_steps;
+    if (t == 1) result.initial_cost = run.frame.area(inner.initial_cost);
+    result.final_cost = run.frame.area(inner.final_cost);
     result.T_target_source = run.frame.external(T);
     result.iterations = t;
     // The criterion (Sec. 3.2), then the EM scale's M-step at the final pose:
     // s^2 = sum w r / (3 N) = 2 final_cost / (3 N).
     const double scale_sq = run.scale.scale_sq();
-    reason = lm.termination == LMTermination::kNumericalFailure
+    reason = inner.termination == LMTermination::kNumericalFailure
                  ? StopReason::kNumericalFailure
                  : run.monitor.update(
-                       IterationReport{t, lm, T, run.reference_length, run.scale.settling()});
+                       IterationReport{t, inner, T, run.reference_length, run.scale.settling()});
     run.scale.update(run.monitor.last_cost_drop(), std::sqrt(run.monitor.last_mse_prev()),
-                     2.0 * lm.final_cost / (3.0 * static_cast<double>(pairs.matched)));
-    if (m.options.record_history || m.options.on_iteration) {
+                     2.0 * inner.final_cost / (3.0 * static_cast<double>(pairs.matched)));
+    if (options.record_history || options.on_iteration) {
       const IterationRecord r =
-          m.record(t, coarse, scale_sq, lm, run, result.T_target_source, start);
-      if (m.options.on_iteration && !m.options.on_iteration(r) && reason == StopReason::kNone) {
+          record(t, coarse, scale_sq, inner, run, result.T_target_source, start);
+      if (options.on_iteration && !options.on_iteration(r) && reason == StopReason::kNone) {
         reason = StopReason::kCancelled;
       }
-      if (m.options.record_history) result.history.push_back(r);
+      if (options.record_history) result.history.push_back(r);
     }
     // Where the next iteration starts (pose_acceleration.hpp): extrapolated through the coarse
     // phase, where the held scale makes every iteration the same map of the pose; not in the fine
@@ -475,7 +499,7 @@ RegistrationResult Registration::align(const PointCloud& source,
     T_next = extrapolate ? run.acceleration.next(T_start, T) : T;
     if (!extrapolate) run.acceleration.reset();
   }
-  m.summarise(reason, T, run, &result);
+  summarise(reason, T, run, &result);
   set_verdict(&result);
   return result;
 }

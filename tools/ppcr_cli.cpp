@@ -253,15 +253,17 @@ int main(int argc, char** argv) {
   options.record_history = !a.trace.empty();
 
   const auto start = std::chrono::steady_clock::now();
-  // A Registration rather than ppcr::align(), so that the target as read is freed once the
-  // registration holds its prepared copy (24 B per target point less at the peak), and the
-  // registration's buffers before the outputs are written.
+  // A Registration rather than ppcr::align(), so that the clouds as read are freed once the
+  // registration holds its prepared copies (24 B per point less at the peak; the source only
+  // when no output reads it), and the registration's buffers before the outputs are written.
   ppcr::RegistrationResult result;
   {
     ppcr::Registration registration(options);
     if (registration.set_target(in.target).ok()) {
       ppcr::PointCloud().swap(in.target);
-      result = registration.align(in.source, in.T_initial);
+      const bool source_read_after = in.has_gt || !a.trace.empty() || !a.out_cloud.empty();
+      result = source_read_after ? registration.align(in.source, in.T_initial)
+                                 : registration.align(std::move(in.source), in.T_initial);
     } else {
       // The refusal as a result (ppcr::align prepares the target again to reach it: a refused
       // target costs its preparation twice).

@@ -54,6 +54,12 @@ class Registration {
   RegistrationResult align(const PointCloud& source,
                            const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity());
 
+  /// The same, taking the source: its memory is freed (*source left empty) once the
+  /// registration holds its prepared copy, before the iterations, so that the caller's cloud
+  /// does not count in the peak (24 B per point).
+  RegistrationResult align(PointCloud&& source,
+                           const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity());
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

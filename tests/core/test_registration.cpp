@@ -15,6 +15,7 @@
 #include "kdtree.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"
+#include "result_checks.hpp"
 #include "target_normals.hpp"
 
 using core_test::Rng;
@@ -732,6 +733,27 @@ TEST_CASE("a Registration reused for several sources equals one-shot align", "[r
   ppcr::Registration moved(std::move(reg));
   CHECK(moved.align(sc.source).T_target_source.matrix() == r1.T_target_source.matrix());
   CHECK(moved.options().radius == o.radius);
+}
+
+TEST_CASE("align taking the source empties it and gives the same result, also when refused",
+          "[registration]") {
+  const Scene sc = make_scene(1500, 3000, false);
+  const RegistrationOptions o = scene_options();
+  ppcr::Registration reg(o);
+  REQUIRE(reg.set_target(sc.target).ok());
+  const RegistrationResult kept = reg.align(sc.source);
+  PointCloud taken = sc.source;
+  const RegistrationResult r = reg.align(std::move(taken));
+  CHECK(taken.empty());
+  CHECK(taken.capacity() == 0);  // freed, not only cleared
+  test_checks::check_identical(kept, r);
+  // A refused source: the same status, and the cloud is freed all the same.
+  PointCloud two(sc.source.begin(), sc.source.begin() + 2);
+  const RegistrationResult refused_kept = reg.align(two);
+  const RegistrationResult refused = reg.align(std::move(two));
+  CHECK(two.empty());
+  CHECK(refused.status.code() == StatusCode::kEmptyCloud);
+  CHECK(refused.status.message() == refused_kept.status.message());
 }
 
 // ------------------------------------------------------------------------------ trace
