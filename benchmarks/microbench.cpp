@@ -22,6 +22,7 @@
 #include "ppcr/se3.hpp"
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
+#include "thread_pool.hpp"
 #include "weights.hpp"
 
 namespace {
@@ -68,7 +69,7 @@ void BM_TargetNormals(benchmark::State& state) {
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> spread;
   for (auto _ : state) {
-    ppcr::detail::compute_normals(target, tree, 20, 1, &normals, &spread);
+    ppcr::detail::compute_normals(target, tree, 20, nullptr, &normals, &spread);
     benchmark::DoNotOptimize(normals.data());
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -91,14 +92,14 @@ void BM_RadiusKnnQuery(benchmark::State& state) {
 
 void BM_Associate(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
-  const int threads = static_cast<int>(state.range(1));
+  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
   const ppcr::PointCloud target = surface(n, 1), source = surface(n, 2);
   ppcr::detail::KdTree tree;
   (void)tree.build(target);
   ppcr::detail::AssociationTable table;
   table.resize(n, kNeighbours);
   for (auto _ : state) {
-    ppcr::detail::associate(tree, source, small_motion(), kRadius * kRadius, threads, &table);
+    ppcr::detail::associate(tree, source, small_motion(), kRadius * kRadius, &pool, &table);
     benchmark::DoNotOptimize(table.pairs);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -126,7 +127,7 @@ void BM_AssociateCached(benchmark::State& state) {
   for (auto _ : state) {
     if (extra == 0) cache.invalidate();
     T = ppcr::se3::exp(drift) * T;
-    ppcr::detail::associate_cached(tree, target, source, T, kRadius, 1, &cache, &table);
+    ppcr::detail::associate_cached(tree, target, source, T, kRadius, nullptr, &cache, &table);
     queries += cache.last_queries;
     ++calls;
     benchmark::DoNotOptimize(table.pairs);
@@ -162,7 +163,7 @@ struct Fixture {
     }
     (void)tree.build(target);
     table.resize(n, kNeighbours);
-    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), kRadius * kRadius, 1,
+    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), kRadius * kRadius, nullptr,
                             &table);
     w_prev.assign(n * kNeighbours, 1.0);
     w_new.assign(n * kNeighbours, 0.0);
@@ -179,13 +180,13 @@ struct Fixture {
 // Arguments: source points, threads, clouds in Z-order (1) or in sampling order (0).
 void BM_NormalEquations(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
-  const int threads = static_cast<int>(state.range(1));
+  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
   ppcr::detail::WeightParams wp;
   wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
   ppcr::detail::Evaluation out;
   for (auto _ : state) {
     f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
-                  f.r_sq.data(), threads, &out);
+                  f.r_sq.data(), &pool, &out);
     benchmark::DoNotOptimize(out.H);
   }
   state.counters["pairs"] = static_cast<double>(f.table.pairs);
@@ -195,9 +196,9 @@ void BM_NormalEquations(benchmark::State& state) {
 // The plane model's pass: Omega_k = n_k n_k^T + 0.05 I from the target's 20-neighbour normals.
 void BM_NormalEquationsPlane(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
-  const int threads = static_cast<int>(state.range(1));
+  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
   std::vector<Eigen::Vector3d> normals;
-  ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &normals);
+  ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &normals);
   std::vector<ppcr::detail::PlanePoint> points;
   std::vector<ppcr::detail::PlaneInformation> information;
   ppcr::detail::pack_plane_points(f.target, normals, 0.05, &points, &information);
@@ -209,7 +210,7 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   ppcr::detail::Evaluation out;
   for (auto _ : state) {
     f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
-                  f.r_sq.data(), threads, &out, &plane);
+                  f.r_sq.data(), &pool, &out, &plane);
     benchmark::DoNotOptimize(out.H);
   }
   state.counters["pairs"] = static_cast<double>(f.table.pairs);
@@ -221,10 +222,10 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
 void BM_PairNormals(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), true);
   std::vector<Eigen::Vector3d> target_normals, source_normals;
-  ppcr::detail::compute_normals(f.target, f.tree, 20, 1, &target_normals);
+  ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &target_normals);
   ppcr::detail::KdTree source_tree;
   (void)source_tree.build(f.source);
-  ppcr::detail::compute_normals(f.source, source_tree, 20, 1, &source_normals);
+  ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
   std::vector<ppcr::detail::PlanePoint> points;
   ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, &points);
   const std::size_t k = static_cast<std::size_t>(f.table.k);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "parallel.hpp"
+#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -48,12 +48,12 @@ bool on_surface(const SurfaceTestSq& t, std::uint32_t index, const Eigen::Vector
 // Nearest point of `tree` within radius of each T * points[i], whether it is within near_sq and,
 // if `surface` is given, whether a near point is on the surface. Summed per block, then in order.
 Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::Isometry3d& T,
-                    double radius_sq, double near_sq, const SurfaceTestSq* surface, int num_threads,
-                    std::vector<double>* scratch) {
+                    double radius_sq, double near_sq, const SurfaceTestSq* surface,
+                    const ThreadPool* pool, std::vector<double>* scratch) {
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
   double* blocks = scratch->data();
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
     Sums s;
     const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
     const std::size_t end = std::min(points.size(), begin + kBlock);
@@ -91,21 +91,21 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
                                    const PointCloud& source, const KdTree* source_tree,
                                    const Eigen::Isometry3d& T_target_source, double radius,
                                    double near_distance, const SurfaceTest& surface,
-                                   int num_threads, std::vector<double>* scratch) {
+                                   const ThreadPool* pool, std::vector<double>* scratch) {
   AlignmentQuality q;
   if (source.empty() || target.empty()) return q;
   const double radius_sq = radius * radius;
   const double near_sq = near_distance * near_distance;
   const SurfaceTestSq surface_sq(surface);
   const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq,
-                                &surface_sq, num_threads, scratch);
+                                &surface_sq, pool, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
   q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
     const Sums back = nearest_within(*source_tree, target, T_target_source.inverse(), radius_sq,
-                                     near_sq, nullptr, num_threads, scratch);
+                                     near_sq, nullptr, pool, scratch);
     q.overlap = std::min(q.fitness, back.matched / static_cast<double>(target.size()));
   }
   return q;

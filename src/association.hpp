@@ -14,6 +14,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+class ThreadPool;  // thread_pool.hpp
+
 /// Slot m < count[j] of source point j holds its m-th nearest target point within the radius,
 /// index[j * k + m] (into the target). Ties in distance are ordered by the path that wrote the
 /// row: by index through the neighbour cache, in the k-d tree's visit order through associate().
@@ -37,7 +39,7 @@ struct AssociationTable {
 /// source are expressed in). Parallel over source points; the result does not depend on the
 /// thread count. Allocation-free once the table is sized.
 void associate(const KdTree& target_tree, const PointCloud& source,
-               const Eigen::Isometry3d& T_target_source, double radius_sq, int num_threads,
+               const Eigen::Isometry3d& T_target_source, double radius_sq, const ThreadPool* pool,
                AssociationTable* table);
 
 }  // namespace detail

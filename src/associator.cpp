@@ -52,11 +52,11 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   const bool spread = coarse_associated_ && !coarse;
   if (use_cache_) {
     if (spread) spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_);
-    associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.num_threads, &cache_,
+    associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.pool, &cache_,
                      &table_);
   } else {
     if (spread) table_.resize(source_->size(), settings_.k);
-    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.num_threads,
+    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.pool,
                       &table_);
   }
   coarse_associated_ = coarse;

@@ -23,7 +23,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
   auto evaluate = [&](const Eigen::Isometry3d& pose, const double* w_prev, double* w_new,
                       Evaluation* out) {
     normal_equations_.evaluate(*pb.source, *pb.target, *pb.assoc, pb.weights, pose, w_prev, w_new,
-                               nullptr, pb.num_threads, out, pb.plane);
+                               nullptr, pb.pool, out, pb.plane);
   };
 
   evaluate(*T, nullptr, w_.data(), &current_);

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "parallel.hpp"
+#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -296,8 +296,8 @@ void count_paths(NeighbourCache* cache) {
 }  // namespace
 
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
-                      const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
-                      NeighbourCache* cache, AssociationTable* table) {
+                      const Eigen::Isometry3d& T_target_source, double radius,
+                      const ThreadPool* pool, NeighbourCache* cache, AssociationTable* table) {
   // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
   assert(radius > 0.0);
   assert(table->k <= cache->capacity && cache->capacity <= NeighbourCache::kMaxCapacity);
@@ -329,7 +329,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   // queries").
   constexpr std::size_t kSeedBlock = 64;
   const std::size_t n_blocks = (source.size() + kSeedBlock - 1) / kSeedBlock;
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
     const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
     const std::size_t end = std::min(source.size(), begin + kSeedBlock);
     for (std::size_t j = begin; j < end; ++j) {

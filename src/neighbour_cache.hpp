@@ -78,6 +78,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+class ThreadPool;  // thread_pool.hpp
+
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
   int capacity = 0;
@@ -151,8 +153,8 @@ struct NeighbourCache {
 /// itself). radius > 0 (asserted). Allocation-free. The result does not depend on the thread
 /// count.
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
-                      const Eigen::Isometry3d& T_target_source, double radius, int num_threads,
-                      NeighbourCache* cache, AssociationTable* table);
+                      const Eigen::Isometry3d& T_target_source, double radius,
+                      const ThreadPool* pool, NeighbourCache* cache, AssociationTable* table);
 
 /// Spreads a coarse level's lists over the full source, in place (RegistrationOptions::
 /// coarse_stride): the cache and table hold one row per point of the coarse level, whose point i

@@ -7,8 +7,8 @@
 #include <type_traits>
 
 #include "pair_normals.hpp"
-#include "parallel.hpp"
 #include "ppcr/se3.hpp"
+#include "thread_pool.hpp"
 #include "weight_kernel.hpp"
 
 namespace ppcr {
@@ -242,8 +242,8 @@ inline void accumulate_point(const Eigen::Vector3d& p, std::size_t count, const 
 template <bool kPlane, bool kPairNormals, class Kernel>
 void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
                            const AssociationTable& assoc, const Eigen::Isometry3d& T,
-                           const double* w_prev, double* w_new, double* r_sq, int num_threads,
-                           const PlaneModel* plane) {
+                           const double* w_prev, double* w_new, double* r_sq,
+                           const ThreadPool* pool, const PlaneModel* plane) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
@@ -261,7 +261,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
     // Without r_sq, a point's squared errors live on the stack (read back within the point); its
     // pairs' normals in the block's k slots of pair_normals_.
     double r_local[AssociationTable::kMaxNeighbours];
@@ -312,7 +312,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
 void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,
                                const AssociationTable& assoc, const WeightParams& weights,
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
-                               double* r_sq, int num_threads, Evaluation* out,
+                               double* r_sq, const ThreadPool* pool, Evaluation* out,
                                const PlaneModel* plane) {
   // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
   assert(assoc.k <= AssociationTable::kMaxNeighbours);
@@ -326,8 +326,8 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
          pair_normals_.size() >= blocks_.size() * static_cast<std::size_t>(assoc.k));
   assert(!use_plane || use_pair_normals || plane->information != nullptr);
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
-    pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
-        e_step, source, target, assoc, T, w_prev, w_new, r_sq, num_threads, plane);
+    pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(e_step, source, target, assoc, T,
+                                                                 w_prev, w_new, r_sq, pool, plane);
   };
   with_weight_kernel<false>(weights.model, weights.dof, weights.inv_scale_sq,
                             [&](const auto& e_step) {

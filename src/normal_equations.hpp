@@ -35,6 +35,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+class ThreadPool;  // thread_pool.hpp
+
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
@@ -142,7 +144,7 @@ class NormalEquations {
   /// With plane != null the plane error model is used (r_sq then holds e^T Omega e).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,
-                double* w_new, double* r_sq, int num_threads, Evaluation* out,
+                double* w_new, double* r_sq, const ThreadPool* pool, Evaluation* out,
                 const PlaneModel* plane = nullptr);
 
   /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
@@ -157,7 +159,7 @@ class NormalEquations {
   template <bool kPlane, bool kPairNormals, class Kernel>
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
-            double* w_new, double* r_sq, int num_threads, const PlaneModel* plane);
+            double* w_new, double* r_sq, const ThreadPool* pool, const PlaneModel* plane);
   std::vector<BlockSums> blocks_;
   // With pair normals, k per block of source points: the pass forms a point's there.
   std::vector<PairNormal> pair_normals_;

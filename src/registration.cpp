@@ -26,6 +26,7 @@
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
 #include "termination.hpp"
+#include "thread_pool.hpp"
 #include "verdict.hpp"
 
 namespace ppcr {
@@ -113,9 +114,13 @@ struct SurfaceFits {
 }  // namespace
 
 struct Registration::Impl {
+  explicit Impl(const RegistrationOptions& o)
+      : options(o), options_status(validate(o)), pool(options_status.ok() ? o.num_threads : 1) {}
+
   RegistrationOptions options;  // the user's
   RegistrationOptions solver;   // the same in the internal unit of the current target
   Status options_status;
+  detail::ThreadPool pool;  // options.num_threads, workers started by the first parallel loop
   bool has_target = false;
   detail::PreparedCloud target;
   detail::KdTree tree;
@@ -171,10 +176,7 @@ struct Registration::Impl {
                  RegistrationResult* result);
 };
 
-Registration::Registration(const RegistrationOptions& options) : impl_(new Impl) {
-  impl_->options = options;
-  impl_->options_status = validate(options);
-}
+Registration::Registration(const RegistrationOptions& options) : impl_(new Impl(options)) {}
 Registration::~Registration() = default;
 Registration::Registration(Registration&&) noexcept = default;
 Registration& Registration::operator=(Registration&&) noexcept = default;
@@ -250,8 +252,8 @@ SurfaceFits Registration::Impl::fit_surface(const PointCloud& cloud, const detai
                                             std::vector<Eigen::Vector3d>* normals) const {
   std::vector<double> spread, reach, nearest_sq;
   if (normals != nullptr) {
-    detail::compute_normals(cloud, index, options.expert.normal_neighbours, options.num_threads,
-                            normals, &spread, &reach, &nearest_sq);
+    detail::compute_normals(cloud, index, options.expert.normal_neighbours, &pool, normals, &spread,
+                            &reach, &nearest_sq);
   }
   std::vector<double> scratch;  // the spacing's samples
   SurfaceFits summary;
@@ -330,7 +332,7 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
   p.assoc = &associator.table();
   p.weights = detail::weight_params(solver);
   p.plane = plane_model() ? &plane : nullptr;
-  p.num_threads = solver.num_threads;
+  p.pool = &pool;
   p.step_reference = step_reference;
   p.source_extent = source_extent;
   return p;
@@ -364,7 +366,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   const double reference_length = std::min(o.radius, source_extent);
   const std::size_t n = source.centered.size();
   const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
-                                              detail::coarse_stride(o, n), o.num_threads};
+                                              detail::coarse_stride(o, n), &pool};
   associator.prepare(settings, source.centered, pair_normals() ? &source_normals : nullptr);
   plane.pair_source = associator.pair_normal_source();
   lm.resize(n, o.max_neighbours);
@@ -548,7 +550,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
                                     planes ? &target_plane_points : nullptr, target_fits.reach};
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, pair_normals() ? &source_tree : nullptr, T,
-      solver.radius, std::min(solver.radius, kNearSpacings * spacing), surface, options.num_threads,
+      solver.radius, std::min(solver.radius, kNearSpacings * spacing), surface, &pool,
       &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);

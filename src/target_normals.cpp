@@ -8,8 +8,8 @@
 #include <cmath>
 #include <limits>
 
-#include "parallel.hpp"
 #include "point_spacing.hpp"
+#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -43,9 +43,10 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
   return fit;
 }
 
-void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread,
-                     std::vector<double>* reach, std::vector<double>* nearest_sq) {
+void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
+                     const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
+                     std::vector<double>* spread, std::vector<double>* reach,
+                     std::vector<double>* nearest_sq) {
   normals->assign(points.size(), Eigen::Vector3d::Zero());
   if (spread != nullptr) spread->assign(points.size(), -1.0);
   if (reach != nullptr) reach->assign(points.size(), -1.0);
@@ -66,7 +67,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   // search skips, never its result, so neither the blocks nor the threads change the normals.
   constexpr std::size_t kSeedBlock = 64;
   const std::size_t n_blocks = (order.size() + kSeedBlock - 1) / kSeedBlock;
-  parallel_for(num_threads, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
     const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
     const std::size_t end = std::min(order.size(), begin + kSeedBlock);
     std::uint32_t idx[kMaxNeighbours];

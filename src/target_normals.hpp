@@ -14,6 +14,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+class ThreadPool;  // thread_pool.hpp
+
 /// The plane fit of one neighbourhood, points[idx[0..n)] summed in that order: normal is the unit
 /// eigenvector of the smallest eigenvalue of their covariance (about their mean), spread the
 /// square root of that eigenvalue (cloud units); normal zero and spread -1 when n < 5 or the
@@ -43,9 +45,9 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// If nearest_sq is not null, nearest_sq[i] = nearest_nonzero_sq() of those neighbours
 /// (point_spacing.hpp: what a spacing query would find) when k >= kSpacingNeighbours; with fewer
 /// neighbours nearest_sq is left empty (they may not reach past a point's duplicates).
-void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours, int num_threads,
-                     std::vector<Eigen::Vector3d>* normals, std::vector<double>* spread = nullptr,
-                     std::vector<double>* reach = nullptr,
+void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
+                     const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
+                     std::vector<double>* spread = nullptr, std::vector<double>* reach = nullptr,
                      std::vector<double>* nearest_sq = nullptr);
 
 /// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the

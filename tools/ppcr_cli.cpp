@@ -85,8 +85,7 @@ int parse(int argc, char** argv, Arguments* a) {
       "Registers SOURCE onto TARGET with Probabilistic Point Clouds Registration (PPCR) and prints "
       "the 4x4 transform mapping SOURCE into TARGET's frame. Clouds: PLY, PCD, XYZ/CSV.",
       "ppcr_cli"};
-  app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING + " (OpenMP " +
-                                        PPCR_WITH_OPENMP_STR + ")");
+  app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING);
   add_arguments(app, a);
   try {
     app.parse(argc, argv);

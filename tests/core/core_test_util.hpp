@@ -9,13 +9,25 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <utility>
 #include <vector>
 
 #include "ppcr/types.hpp"
+#include "thread_pool.hpp"
 
 namespace core_test {
+
+// The pool for a test's parallel loops: `threads` threads (at most 8), or null (the calling
+// thread alone) for 1. One pool per count, kept for the test program's life.
+inline const ppcr::detail::ThreadPool* pool(int threads) {
+  static std::unique_ptr<ppcr::detail::ThreadPool> pools[9];
+  if (threads <= 1) return nullptr;
+  std::unique_ptr<ppcr::detail::ThreadPool>& p = pools[std::min(threads, 8)];
+  if (!p) p.reset(new ppcr::detail::ThreadPool(threads));
+  return p.get();
+}
 
 using Rng = std::mt19937_64;
 

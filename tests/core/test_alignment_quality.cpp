@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "alignment_quality.hpp"
+#include "core_test_util.hpp"
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
 #include "target_normals.hpp"
@@ -22,7 +23,7 @@ TEST_CASE(
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(target).ok());
   std::vector<Eigen::Vector3d> normals;
-  ppcr::detail::compute_normals(target, tree, 20, 1, &normals);
+  ppcr::detail::compute_normals(target, tree, 20, nullptr, &normals);
   std::vector<ppcr::detail::PlanePoint> planes;
   ppcr::detail::pack_plane_points(target, normals, 0.05, &planes);
   const PointCloud source = {
@@ -34,7 +35,7 @@ TEST_CASE(
   std::vector<double> scratch;
   auto share = [&](const ppcr::detail::SurfaceTest& t) {
     return ppcr::detail::measure_alignment(tree, target, source, nullptr,
-                                           Eigen::Isometry3d::Identity(), radius, near, t, 1,
+                                           Eigen::Isometry3d::Identity(), radius, near, t, nullptr,
                                            &scratch)
         .close_fraction;
   };

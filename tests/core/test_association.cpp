@@ -49,7 +49,7 @@ TEST_CASE("associate matches brute force with a transform applied", "[associatio
       for (int threads : {1, 2}) {
         AssociationTable table;
         table.resize(source.size(), k);
-        ppcr::detail::associate(tree, source, T, radius * radius, threads, &table);
+        ppcr::detail::associate(tree, source, T, radius * radius, core_test::pool(threads), &table);
         INFO("k " << k << " radius " << radius << " threads " << threads);
         CHECK(table_mismatch(table, source, target, T, radius * radius) == "");
         CHECK(table.pairs > 0);
@@ -72,10 +72,10 @@ TEST_CASE("associate: the table can be reused across poses", "[association]") {
     const Eigen::Isometry3d T =
         core_test::make_pose(core_test::random_unit_vector(rng), core_test::uniform(rng, 0.0, 0.5),
                              0.3 * core_test::random_unit_vector(rng));
-    ppcr::detail::associate(tree, source, T, 0.04, 1, &reused);
+    ppcr::detail::associate(tree, source, T, 0.04, nullptr, &reused);
     AssociationTable fresh;
     fresh.resize(source.size(), 10);
-    ppcr::detail::associate(tree, source, T, 0.04, 1, &fresh);
+    ppcr::detail::associate(tree, source, T, 0.04, nullptr, &fresh);
     CHECK(same_tables(reused, fresh));
     CHECK(table_mismatch(reused, source, target, T, 0.04) == "");
   }
@@ -92,7 +92,7 @@ TEST_CASE("associate: no target point in range gives zero pairs and zero matched
   table.resize(source.size(), 5);
   Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
   far.translation() = Eigen::Vector3d(10.0, 0.0, 0.0);
-  ppcr::detail::associate(tree, source, far, 1.0, 2, &table);
+  ppcr::detail::associate(tree, source, far, 1.0, core_test::pool(2), &table);
   CHECK(table.pairs == 0u);
   CHECK(table.matched == 0u);
   CHECK(
@@ -111,8 +111,8 @@ TEST_CASE("associate: bit-identical tables with 1 and 2 threads", "[association]
     AssociationTable one, two;
     one.resize(source.size(), k);
     two.resize(source.size(), k);
-    ppcr::detail::associate(tree, source, T, 0.01, 1, &one);
-    ppcr::detail::associate(tree, source, T, 0.01, 2, &two);
+    ppcr::detail::associate(tree, source, T, 0.01, nullptr, &one);
+    ppcr::detail::associate(tree, source, T, 0.01, core_test::pool(2), &two);
     CHECK(one.pairs > 0u);
     CHECK(same_tables(one, two));
   }
@@ -131,7 +131,7 @@ TEST_CASE("associate: a source point on a target point gets it first at distance
   REQUIRE(tree.build(target).ok());
   AssociationTable table;
   table.resize(source.size(), 3);
-  ppcr::detail::associate(tree, source, T, 0.01, 1, &table);
+  ppcr::detail::associate(tree, source, T, 0.01, nullptr, &table);
   for (std::size_t j = 0; j < source.size(); ++j) {
     REQUIRE(table.count[j] >= 1);
     CHECK(table.index[j * 3] == j);

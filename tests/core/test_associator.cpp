@@ -45,7 +45,7 @@ TEST_CASE("Associator: cached and coarse paths give brute force's tables at ever
       INFO("cache_extra " << cache_extra << ", stride " << stride);
       Associator a;
       a.set_target(&f.tree, &f.target);
-      a.prepare(Associator::Settings{5, radius, cache_extra, stride, 1}, f.source, nullptr);
+      a.prepare(Associator::Settings{5, radius, cache_extra, stride, nullptr}, f.source, nullptr);
       CHECK(a.has_coarse_level() == (stride > 1));
       for (int step = 0; step < 8; ++step) {
         const bool coarse = step < 4;  // the coarse phase, then every point
@@ -70,7 +70,7 @@ TEST_CASE("Associator: a coarse level that finds no pair is dropped for every po
   for (std::size_t i = 0; i < source.size(); i += 3) source[i] += Eigen::Vector3d(100, 0, 0);
   Associator a;
   a.set_target(&f.tree, &f.target);
-  a.prepare(Associator::Settings{5, 0.15, 4, 3, 1}, source, nullptr);
+  a.prepare(Associator::Settings{5, 0.15, 4, 3, nullptr}, source, nullptr);
   a.find(true, Eigen::Isometry3d::Identity());
   CHECK_FALSE(a.coarse());
   CHECK_FALSE(a.has_coarse_level());

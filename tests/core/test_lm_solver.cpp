@@ -50,7 +50,7 @@ LMProblem make_problem(const PointCloud& source, const PointCloud& target,
   pb.weights.model = model;
   pb.weights.dof = 5.0;
   pb.weights.inv_scale_sq = 1.0;
-  pb.num_threads = 1;
+  pb.pool = nullptr;
   pb.step_reference = 1e-3;  // step tolerance 1e-10 absolute: it does not limit 1e-9 accuracy
   pb.source_extent = extent(source);
   return pb;
@@ -245,7 +245,8 @@ struct IrlsScene {
     source.resize(source_points);
     REQUIRE(tree.build(target).ok());
     assoc.resize(source.size(), kNeighbours);
-    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, 1, &assoc);
+    ppcr::detail::associate(tree, source, Eigen::Isometry3d::Identity(), 0.2 * 0.2, nullptr,
+                            &assoc);
   }
   LMProblem problem() const {
     LMProblem pb = make_problem(source, target, assoc, ppcr::WeightModel::kStudentT);
@@ -270,7 +271,7 @@ TEST_CASE("LM with k > 1 and IRLS weights: consistent summary, identical with 1 
   LMSummary s1, s2;
   for (int threads : {1, 2}) {
     LMProblem pb = scene.problem();
-    pb.num_threads = threads;
+    pb.pool = core_test::pool(threads);
     LMSolver solver;
     solver.resize(source.size(), IrlsScene::kNeighbours);
     LMOptions options;
@@ -375,7 +376,7 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
       check_summary_consistent(s, options);
       ppcr::detail::Evaluation ev;
       reference.evaluate(source, scene.target, scene.assoc, pb.weights, T, nullptr, w_ref.data(),
-                         nullptr, 1, &ev, model);
+                         nullptr, nullptr, &ev, model);
       CHECK(solver.weights() == w_ref);
       CHECK(solver.last().cost == ev.cost);
       CHECK(solver.last().H == ev.H);

@@ -50,7 +50,7 @@ struct Lattice {
   /// associate_cached on this lattice at one thread.
   void associate(const Eigen::Isometry3d& T, double radius, NeighbourCache* cache,
                  AssociationTable* table) const {
-    ppcr::detail::associate_cached(tree, target, source, T, radius, 1, cache, table);
+    ppcr::detail::associate_cached(tree, target, source, T, radius, nullptr, cache, table);
   }
   bool built = false;
 };
@@ -163,7 +163,8 @@ TEST_CASE("associate_cached equals brute force along a sequence of poses", "[ass
         table.resize(source.size(), k);
         std::size_t drift_resorted = 0;
         for (std::size_t i = 0; i < poses.size(); ++i) {
-          ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
+          ppcr::detail::associate_cached(tree, target, source, poses[i], radius, nullptr, &cache,
+                                         &table);
           INFO("k " << k << " extra " << extra << " radius " << radius << " pose " << i);
           REQUIRE(table_mismatch(table, source, target, poses[i], radius * radius) == "");
           if (i == 0) CHECK(cache.last_queries == source.size());  // an empty cache queries all
@@ -207,15 +208,16 @@ TEST_CASE("associate_cached: the set certificate holds inside rho and lets go ou
     AssociationTable table;
     table.resize(1, c.k);
     const double r_sq = c.radius * c.radius;
-    ppcr::detail::associate_cached(tree, target, source, at(c.start), c.radius, 1, &cache, &table);
+    ppcr::detail::associate_cached(tree, target, source, at(c.start), c.radius, nullptr, &cache,
+                                   &table);
     REQUIRE(table_mismatch(table, source, target, at(c.start), r_sq) == "");
     REQUIRE(table.count[0] == 1);
     CHECK(table.index[0] == 0u);
-    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.inside), c.radius, 1,
+    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.inside), c.radius, nullptr,
                                    &cache, &table);
     CHECK(cache.last_resorted == 1u);
     CHECK(table_mismatch(table, source, target, at(c.start + c.inside), r_sq) == "");
-    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.outside), c.radius, 1,
+    ppcr::detail::associate_cached(tree, target, source, at(c.start + c.outside), c.radius, nullptr,
                                    &cache, &table);
     CHECK(cache.last_resorted == 0u);
     CHECK(table_mismatch(table, source, target, at(c.start + c.outside), r_sq) == "");
@@ -241,14 +243,14 @@ TEST_CASE("lists and certificates older than the kept poses are queried again, s
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(0.01, -0.02, 0.03);
   for (std::uint32_t call = 0; call < NeighbourCache::kPoses; ++call) {
-    ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+    ppcr::detail::associate_cached(tree, target, source, T, 0.3, nullptr, &cache, &table);
     REQUIRE(cache.last_queries == (call == 0 ? source.size() : 0u));
   }
-  ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == source.size());
   CHECK(table_mismatch(table, source, target, T, 0.3 * 0.3) == "");
   // And the lists it made then serve again.
-  ppcr::detail::associate_cached(tree, target, source, T, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == 0u);
   CHECK(table_mismatch(table, source, target, T, 0.3 * 0.3) == "");
 }
@@ -264,27 +266,27 @@ TEST_CASE("associate_cached queries only where the lists cannot prove the answer
   AssociationTable table;
   table.resize(source.size(), 10);
   const Eigen::Isometry3d T0 = Eigen::Isometry3d::Identity();
-  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == source.size());
   // The same pose again: every list proves itself (delta = 0, and the 10th neighbour is closer
   // than the 18th unless they tie, which random points do not).
-  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T0, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == 0u);
   // A motion far below the neighbour spacing (~0.06 here): few queries, same answer.
   Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
   T1.translation() = Eigen::Vector3d(1e-4, 0.0, 0.0);
-  ppcr::detail::associate_cached(tree, target, source, T1, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T1, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries < source.size() / 10);
   CHECK(table_mismatch(table, source, target, T1, 0.3 * 0.3) == "");
   // A motion larger than the whole candidate radius: every point is re-queried.
   Eigen::Isometry3d T2 = Eigen::Isometry3d::Identity();
   T2.translation() = Eigen::Vector3d(0.5, 0.0, 0.0);
-  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == source.size());
   CHECK(table_mismatch(table, source, target, T2, 0.3 * 0.3) == "");
   // invalidate() forgets the lists.
   cache.invalidate();
-  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, 1, &cache, &table);
+  ppcr::detail::associate_cached(tree, target, source, T2, 0.3, nullptr, &cache, &table);
   CHECK(cache.last_queries == source.size());
 }
 
@@ -318,7 +320,8 @@ TEST_CASE("associate_cached: a fast mover is queried for k + 1 candidates, then 
   REQUIRE(0.3 > NeighbourCache::kFastMove * NeighbourCache::kRadiusMargin * radius);
   const std::vector<double> xs = {0.0, 0.3, 0.302, 0.3021};
   for (std::size_t i = 0; i < xs.size(); ++i) {
-    ppcr::detail::associate_cached(tree, target, source, at(xs[i]), radius, 1, &cache, &table);
+    ppcr::detail::associate_cached(tree, target, source, at(xs[i]), radius, nullptr, &cache,
+                                   &table);
     INFO("pose " << i << " x " << xs[i]);
     REQUIRE(table_mismatch(table, source, target, at(xs[i]), radius * radius) == "");
     if (i == 0) {  // a first query is for capacity
@@ -453,8 +456,8 @@ TEST_CASE(
   NeighbourCache cache;
   AssociationTable table;
   scene.resize(twice.size(), &cache, &table);
-  ppcr::detail::associate_cached(lattice.tree, lattice.target, twice, at(0.5), radius, 1, &cache,
-                                 &table);
+  ppcr::detail::associate_cached(lattice.tree, lattice.target, twice, at(0.5), radius, nullptr,
+                                 &cache, &table);
   REQUIRE(cache.last_queries == twice.size());
   CHECK(cache.last_neighbour_seeded >= twice.size() / 2);  // at least every second copy
   CHECK(cache.last_neighbour_seed_repeats == 0u);
@@ -479,10 +482,10 @@ TEST_CASE("associate_cached: rows re-ranked from the lists equal freshly queried
   t_fresh.resize(source.size(), 10);
   std::size_t answered_from_lists = 0;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, 1, &warm, &t_warm);
+    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, nullptr, &warm, &t_warm);
     NeighbourCache fresh;
     fresh.resize(source.size(), 14);
-    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, 1, &fresh, &t_fresh);
+    ppcr::detail::associate_cached(tree, target, source, poses[i], 0.15, nullptr, &fresh, &t_fresh);
     REQUIRE(fresh.last_queries == source.size());
     answered_from_lists += source.size() - warm.last_queries;
     INFO("pose " << i);
@@ -523,7 +526,8 @@ TEST_CASE(
     table.resize(coarse.size(), k);
     fresh_table.resize(source.size(), k);
     for (std::size_t i = 0; i < kSwitch; ++i) {
-      ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, 1, &cache, &table);
+      ppcr::detail::associate_cached(tree, target, coarse, poses[i], radius, nullptr, &cache,
+                                     &table);
       REQUIRE(table_mismatch(table, coarse, target, poses[i], radius * radius) == "");
     }
     // The rows as they were, to check where spread_lists puts them.
@@ -559,7 +563,8 @@ TEST_CASE(
     CHECK(listed_others == 0);
     for (std::size_t i = kSwitch; i < poses.size(); ++i) {
       INFO("pose " << i);
-      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &cache, &table);
+      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, nullptr, &cache,
+                                     &table);
       if (i == kSwitch) {
         // Every point without a list is queried; most of the coarse points are answered from
         // theirs.
@@ -569,7 +574,7 @@ TEST_CASE(
       REQUIRE(table_mismatch(table, source, target, poses[i], radius * radius) == "");
       NeighbourCache fresh;
       fresh.resize(source.size(), capacity);
-      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, 1, &fresh,
+      ppcr::detail::associate_cached(tree, target, source, poses[i], radius, nullptr, &fresh,
                                      &fresh_table);
       // Row by row: a table's slots past a row's count are not part of the answer.
       REQUIRE(table.count == fresh_table.count);
@@ -597,8 +602,8 @@ TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads",
   t1.resize(source.size(), 10);
   t2.resize(source.size(), 10);
   for (const Eigen::Isometry3d& T : poses) {
-    ppcr::detail::associate_cached(tree, target, source, T, 0.1, 1, &c1, &t1);
-    ppcr::detail::associate_cached(tree, target, source, T, 0.1, 2, &c2, &t2);
+    ppcr::detail::associate_cached(tree, target, source, T, 0.1, nullptr, &c1, &t1);
+    ppcr::detail::associate_cached(tree, target, source, T, 0.1, core_test::pool(2), &c2, &t2);
     CHECK(c1.last_queries == c2.last_queries);
     CHECK(t1.count == t2.count);
     CHECK(t1.index == t2.index);

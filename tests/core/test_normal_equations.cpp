@@ -51,7 +51,7 @@ Problem make_problem(std::uint64_t seed, std::size_t n, int k, double radius) {
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(pb.target).ok());
   pb.assoc.resize(pb.source.size(), k);
-  ppcr::detail::associate(tree, pb.source, pb.T, radius * radius, 1, &pb.assoc);
+  ppcr::detail::associate(tree, pb.source, pb.T, radius * radius, nullptr, &pb.assoc);
   return pb;
 }
 
@@ -210,7 +210,7 @@ Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T
   out.w.assign(slots, 0.0);
   if (with_r_sq) out.r_sq.assign(slots, 0.0);
   ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w_prev, out.w.data(),
-              with_r_sq ? out.r_sq.data() : nullptr, threads, &out.eval, plane);
+              with_r_sq ? out.r_sq.data() : nullptr, core_test::pool(threads), &out.eval, plane);
   return out;
 }
 
@@ -479,8 +479,8 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
         ne.resize(pb.source.size(), pb.assoc.k);
         std::vector<double> w = w_prev;
         Evaluation in_place;
-        ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr, threads,
-                    &in_place, model);
+        ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr,
+                    core_test::pool(threads), &in_place, model);
         INFO("plane " << (model != nullptr) << " pair normals "
                       << (model != nullptr && model->pair_source != nullptr) << " dof " << wp.dof
                       << " inv_scale_sq " << wp.inv_scale_sq << " threads " << threads);

@@ -1224,7 +1224,8 @@ TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surf
   REQUIRE(tree.build(sc.target).ok());
   std::vector<Eigen::Vector3d> normals;
   std::vector<double> spread;
-  ppcr::detail::compute_normals(sc.target, tree, o.expert.normal_neighbours, 1, &normals, &spread);
+  ppcr::detail::compute_normals(sc.target, tree, o.expert.normal_neighbours, nullptr, &normals,
+                                &spread);
   const double noise = ppcr::detail::upper_median(&spread);
   REQUIRE(noise > 0.0);
 

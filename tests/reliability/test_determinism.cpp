@@ -81,7 +81,7 @@ TEST_CASE("bit-identical results for 1, 2 and 3 threads and across runs",
 
 TEST_CASE("concurrent registrations in one process equal the sequential ones",
           "[reliability][determinism]") {
-  // Four registrations at once: two error models x two problems, each with 2 OpenMP threads
+  // Four registrations at once: two error models x two problems, each with 2 threads
   // inside its std::thread.
   const Pair a = make_problem(41, 2000, 5000);
   const Pair b = make_problem(42, 2000, 5000);
