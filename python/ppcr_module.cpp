@@ -567,15 +567,12 @@ Result register_clouds(const py::handle& source, const py::handle& target,
   {
     py::gil_scoped_release release;
     const auto start = std::chrono::steady_clock::now();
-    // The converted clouds are freed once the registration holds its prepared copies.
+    // The converted clouds are freed once the registration holds its prepared copies (a
+    // refused target makes align() refused with its status).
     ppcr::Registration registration(options);
-    const ppcr::Status target_status = registration.set_target(target_cloud);
+    (void)registration.set_target(target_cloud);
     ppcr::PointCloud().swap(target_cloud);
-    if (target_status.ok()) {
-      r = registration.align(std::move(source_cloud), T_initial);
-    } else {
-      r.status = target_status;
-    }
+    r = registration.align(std::move(source_cloud), T_initial);
     time_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }

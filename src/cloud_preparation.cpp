@@ -24,7 +24,9 @@ Status too_few(const char* name, std::size_t kept, std::size_t input, std::size_
                     "); at least 3 are needed");
 }
 
-// Per-axis median of the cloud, O(n) (nth_element), reordering it: no copy of a coordinate.
+// Per-axis median of the cloud, O(n) (nth_element), reordering it: no copy of a coordinate. The
+// Z-order sort then sets the order; only distinct points in one of its cells (1 / 2^21 of the
+// extent) keep this one, which is deterministic for a given standard library.
 Eigen::Vector3d median_origin(PointCloud* cloud) {
   Eigen::Vector3d origin;
   const auto mid = cloud->begin() + static_cast<std::ptrdiff_t>(cloud->size() / 2);

@@ -120,8 +120,9 @@ struct Registration::Impl {
   RegistrationOptions options;  // the user's
   RegistrationOptions solver;   // the same in the internal unit of the current target
   Status options_status;
-  detail::ThreadPool pool;  // options.num_threads, workers started by the first parallel loop
+  detail::ThreadPool pool;  // options.num_threads threads, the workers started with it
   bool has_target = false;
+  Status target_status;  // the last set_target()'s or set_target_to_source()'s, for align()
   detail::PreparedCloud target;
   detail::KdTree tree;
   // Plane model only: the target's points and normals.
@@ -156,6 +157,7 @@ struct Registration::Impl {
   SurfaceFits fit_surface(const PointCloud& cloud, const detail::KdTree& index,
                           std::vector<Eigen::Vector3d>* normals) const;
   Status make_target(const PointCloud& cloud, double voxel);
+  Status take_source();
   Status index_target();
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
@@ -183,47 +185,51 @@ Registration& Registration::operator=(Registration&&) noexcept = default;
 
 const RegistrationOptions& Registration::options() const { return impl_->options; }
 
+// A refused target leaves none: align() is then refused with the same status.
 Status Registration::set_target(const PointCloud& target) {
   Impl& m = *impl_;
   m.has_target = m.has_source = false;
   if (!m.options_status.ok()) return m.options_status;
-  return m.make_target(target, m.options.target_voxel);
+  return m.target_status = m.make_target(target, m.options.target_voxel);
 }
 
 Status Registration::set_target_to_source() {
   Impl& m = *impl_;
-  // As with set_target(), a refusal leaves no target: align() is then refused too.
   m.has_target = false;
   if (!m.options_status.ok()) return m.options_status;
-  if (!m.has_source) {
+  return m.target_status = m.take_source();
+}
+
+Status Registration::Impl::take_source() {
+  if (!has_source) {
     return Status(StatusCode::kEmptyCloud,
                   "set_target_to_source: no source to take: the last align() did not prepare "
                   "one, or it was taken already (set_target() or set_target_to_source() since)");
   }
-  if (m.options.source_voxel != m.options.target_voxel) {
+  if (options.source_voxel != options.target_voxel) {
     return Status(StatusCode::kInvalidArgument,
-                  "set_target_to_source: source_voxel (" + num(m.options.source_voxel) +
-                      ") differs from target_voxel (" + num(m.options.target_voxel) +
+                  "set_target_to_source: source_voxel (" + num(options.source_voxel) +
+                      ") differs from target_voxel (" + num(options.target_voxel) +
                       "): the source was filtered as a source; call set_target() with the cloud");
   }
-  m.has_source = false;
+  has_source = false;
   // The source was centred, divided by the previous target's unit and Z-ordered as a target
   // would be. Any unit serves (internal_unit() keeps the numbers near 1), so it is kept unless
   // it is more than 2x off the cloud's own; then the target is prepared again from the filtered
   // points, mapped back to the user's frame to rounding (a chain of targets never drifts from
   // its clouds' scale).
-  const double ratio = detail::internal_unit(m.unit_radius(), m.source.extent) / m.source.unit;
+  const double ratio = detail::internal_unit(unit_radius(), source.extent) / source.unit;
   if (!(ratio >= 0.5 && ratio <= 2.0)) {
-    PointCloud filtered(m.source.centered.size());  // back in the user's frame, to rounding
-    for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = m.source.user_point(i);
-    const Status s = m.make_target(filtered, 0.0);
-    m.target.dropped = m.source.dropped;
+    PointCloud filtered(source.centered.size());  // back in the user's frame, to rounding
+    for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = source.user_point(i);
+    const Status s = make_target(filtered, 0.0);
+    target.dropped = source.dropped;
     return s;
   }
-  std::swap(m.target, m.source);
-  if (!m.pair_normals()) return m.index_target();  // align() fitted no source normals
-  std::swap(m.tree, m.source_tree);
-  return m.adopt_target(m.source_fits, m.source_normals);
+  std::swap(target, source);
+  if (!pair_normals()) return index_target();  // align() fitted no source normals
+  std::swap(tree, source_tree);
+  return adopt_target(source_fits, source_normals);
 }
 
 // Prepares `cloud` as the target: filtered, centred in its own unit, Z-ordered (a source point's
@@ -294,7 +300,9 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
 Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const {
   if (!options_status.ok()) return options_status;
   if (!has_target) {
-    return Status(StatusCode::kEmptyCloud, "no target: call set_target() first (or it failed)");
+    return target_status.ok()
+               ? Status(StatusCode::kEmptyCloud, "no target: call set_target() first")
+               : target_status;
   }
   if (!T_initial.matrix().allFinite()) {
     return Status(StatusCode::kInvalidArgument, "the initial guess has non-finite entries");

@@ -33,18 +33,21 @@ void ThreadPool::run_loop(Range range, void* body, std::ptrdiff_t n) const {
     std::lock_guard<std::mutex> lock(mutex_);
     loop_ = Loop{range, body, n, std::max<std::ptrdiff_t>(1, n / (16 * std::ptrdiff_t{threads()}))};
     next_.store(0, std::memory_order_relaxed);
-    busy_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
+    open_ = true;
     ++generation_;
   }
   wake_.notify_all();
   work(loop_);  // loop_ changes only in run_loop, on this thread
-  // Every worker must have left this loop before the caller returns: the body lives in the
-  // caller's frame, and the next loop resets next_.
+  // Every chunk is handed out: close the loop, so that a worker not yet in it stays out (it
+  // would find nothing to do, and the caller need not wait for it to wake), and wait for those
+  // in it, which may still run a chunk (the body lives in the caller's frame, and the next loop
+  // resets next_).
   std::unique_lock<std::mutex> lock(mutex_);
-  done_.wait(lock, [this] { return busy_.load(std::memory_order_acquire) == 0; });
+  open_ = false;
+  done_.wait(lock, [this] { return joined_ == 0; });
 }
 
-void ThreadPool::work(const Loop& loop) const {
+void ThreadPool::work(const Loop& loop) const noexcept {
   for (;;) {
     const std::ptrdiff_t begin = next_.fetch_add(loop.chunk, std::memory_order_relaxed);
     if (begin >= loop.n) return;
@@ -58,19 +61,22 @@ void ThreadPool::worker() const {
     Loop loop;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      wake_.wait(lock, [&] { return stop_ || (open_ && generation_ != seen); });
       if (stop_) return;
       seen = generation_;
       loop = loop_;
+      ++joined_;
     }
     work(loop);
-    if (busy_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      // Through the mutex, so that the caller is either before its test of busy_ or asleep;
-      // notified after it, so that the caller does not wake to a held mutex. The pool outlives
-      // this: its destructor joins the workers.
-      { std::lock_guard<std::mutex> lock(mutex_); }
-      done_.notify_one();
+    bool last = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      last = --joined_ == 0 && !open_;
     }
+    // After the unlock, so that the caller does not wake to a held mutex (it tests joined_ under
+    // the mutex, so it cannot miss this). The pool outlives this: its destructor joins the
+    // workers.
+    if (last) done_.notify_one();
   }
 }
 

@@ -11,8 +11,9 @@
 // Why not OpenMP: GCC's runtime lets idle threads spin before they sleep unless the process sets
 // OMP_WAIT_POLICY=passive, a process-wide setting a library must not make; two busy processes
 // on two cores then ran 2.5x slower. A worker here waits on a condition variable between
-// loops, and the caller waits the same way for the last chunk. No global state: each
-// Registration owns its pool, whose workers live as long as it does.
+// loops; the caller, done with the chunks, waits the same way for the workers still in one (a
+// worker that wakes after the last chunk was handed out stays out of that loop). No global state:
+// each Registration owns its pool, whose workers live as long as it does.
 #pragma once
 
 #include <atomic>
@@ -52,14 +53,14 @@ class ThreadPool {
       return;
     }
     using Body = std::remove_reference_t<F>;
-    const Range range = [](void* body, std::ptrdiff_t begin, std::ptrdiff_t end) {
+    const Range range = [](void* body, std::ptrdiff_t begin, std::ptrdiff_t end) noexcept {
       for (std::ptrdiff_t i = begin; i < end; ++i) (*static_cast<Body*>(body))(i);
     };
     run_loop(range, const_cast<void*>(static_cast<const void*>(std::addressof(f))), n);
   }
 
  private:
-  using Range = void (*)(void* body, std::ptrdiff_t begin, std::ptrdiff_t end);
+  using Range = void (*)(void* body, std::ptrdiff_t begin, std::ptrdiff_t end) noexcept;
   struct Loop {
     Range range = nullptr;
     void* body = nullptr;
@@ -69,7 +70,7 @@ class ThreadPool {
 
   void run_loop(Range range, void* body, std::ptrdiff_t n) const;
   void start_workers(int count);
-  void work(const Loop& loop) const;
+  void work(const Loop& loop) const noexcept;  // a throwing body terminates
   void worker() const;
 
   mutable std::mutex mutex_;
@@ -78,7 +79,8 @@ class ThreadPool {
   std::vector<std::thread> workers_;
   mutable bool stop_ = false;
   mutable std::uint64_t generation_ = 0;  // loops started
-  mutable std::atomic<int> busy_{0};      // workers still in the current loop
+  mutable bool open_ = false;             // the current loop takes workers
+  mutable int joined_ = 0;                // workers in the current loop
   mutable Loop loop_;
   mutable std::atomic<std::ptrdiff_t> next_{0};  // the first iteration not yet handed out
 };

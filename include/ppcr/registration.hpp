@@ -35,7 +35,8 @@ class Registration {
 
   /// Validates the options, drops non-finite points, voxel-filters and indexes the target, and
   /// fits its normals (plane model). Kept for every align() until the next set_target() or
-  /// set_target_to_source().
+  /// set_target_to_source(). A refused target leaves none: align() is then refused with the
+  /// same status.
   Status set_target(const PointCloud& target);
 
   /// Makes the source of the last align() the target, as set_target() of the same cloud would,
@@ -49,14 +50,15 @@ class Registration {
   /// otherwise.
   Status set_target_to_source();
 
-  /// Registers source onto the target set last. T_initial maps source into the target frame
+  /// Registers source onto the target set last (refused without one, with the status that
+  /// refused the last target). T_initial maps source into the target frame
   /// (the initial guess).
   RegistrationResult align(const PointCloud& source,
                            const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity());
 
-  /// The same, taking the source: its memory is freed (*source left empty) once the
-  /// registration holds its prepared copy, before the iterations, so that the caller's cloud
-  /// does not count in the peak (24 B per point).
+  /// The same, taking the source: its memory is freed (source left empty) once the registration
+  /// holds its prepared copy, before the iterations, so that the caller's cloud does not count
+  /// in the peak (24 B per point); freed as well when the call is refused.
   RegistrationResult align(PointCloud&& source,
                            const Eigen::Isometry3d& T_initial = Eigen::Isometry3d::Identity());
 

@@ -25,7 +25,7 @@ inline const ppcr::detail::ThreadPool* pool(int threads) {
   static std::unique_ptr<ppcr::detail::ThreadPool> pools[9];
   if (threads <= 1) return nullptr;
   std::unique_ptr<ppcr::detail::ThreadPool>& p = pools[std::min(threads, 8)];
-  if (!p) p.reset(new ppcr::detail::ThreadPool(threads));
+  if (!p) p.reset(new ppcr::detail::ThreadPool(std::min(threads, 8)));
   return p.get();
 }
 

@@ -413,10 +413,25 @@ TEST_CASE("align without a target, or after a failed set_target, is refused", "[
   RegistrationResult r = reg.align(sc.source);
   CHECK(r.status.code() == StatusCode::kEmptyCloud);
   CHECK(r.stop_reason == StopReason::kInvalidInput);
+  CHECK(r.status.message() == "no target: call set_target() first");
   REQUIRE(reg.set_target(sc.target).ok());
-  CHECK(reg.set_target(PointCloud(2, Eigen::Vector3d::Zero())).code() == StatusCode::kEmptyCloud);
+  const ppcr::Status refused = reg.set_target(PointCloud(2, Eigen::Vector3d::Zero()));
+  CHECK(refused.code() == StatusCode::kEmptyCloud);
   r = reg.align(sc.source);
-  CHECK(r.status.code() == StatusCode::kEmptyCloud);
+  // The refusal's own status, as ppcr::align (which sets the target itself) reports it.
+  CHECK(r.status.code() == refused.code());
+  CHECK(r.status.message() == refused.message());
+  CHECK(r.status.message() ==
+        ppcr::align(sc.source, PointCloud(2, Eigen::Vector3d::Zero()), scene_options())
+            .status.message());
+  CHECK(r.stop_reason == StopReason::kInvalidInput);
+  // A refused set_target_to_source() likewise (no source: the last align() was refused).
+  const ppcr::Status no_source = reg.set_target_to_source();
+  CHECK(no_source.code() == StatusCode::kEmptyCloud);
+  CHECK(reg.align(sc.source).status.message() == no_source.message());
+  // A target set again clears it.
+  REQUIRE(reg.set_target(sc.target).ok());
+  CHECK(reg.align(sc.source).status.ok());
 }
 
 TEST_CASE("non-finite points are dropped, counted, and change nothing else", "[registration]") {
