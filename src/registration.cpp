@@ -120,7 +120,8 @@ struct Registration::Impl {
   RegistrationOptions options;  // the user's
   RegistrationOptions solver;   // the same in the internal unit of the current target
   Status options_status;
-  detail::ThreadPool pool;  // options.num_threads threads, the workers started with it
+  // Up to options.num_threads threads (1 for refused options), the workers started with it.
+  detail::ThreadPool pool;
   bool has_target = false;
   Status target_status;  // the last set_target()'s or set_target_to_source()'s, for align()
   detail::PreparedCloud target;

@@ -70,7 +70,7 @@ class ThreadPool {
 
   void run_loop(Range range, void* body, std::ptrdiff_t n) const;
   void start_workers(int count);
-  void work(const Loop& loop) const noexcept;  // a throwing body terminates
+  void work(const Loop& loop) const noexcept;  // with workers, a throwing body terminates
   void worker() const;
 
   mutable std::mutex mutex_;

@@ -417,14 +417,28 @@ TEST_CASE("align without a target, or after a failed set_target, is refused", "[
   REQUIRE(reg.set_target(sc.target).ok());
   const ppcr::Status refused = reg.set_target(PointCloud(2, Eigen::Vector3d::Zero()));
   CHECK(refused.code() == StatusCode::kEmptyCloud);
-  r = reg.align(sc.source);
-  // The refusal's own status, as ppcr::align (which sets the target itself) reports it.
-  CHECK(r.status.code() == refused.code());
-  CHECK(r.status.message() == refused.message());
-  CHECK(r.status.message() ==
-        ppcr::align(sc.source, PointCloud(2, Eigen::Vector3d::Zero()), scene_options())
-            .status.message());
-  CHECK(r.stop_reason == StopReason::kInvalidInput);
+  // The refusal's own status, and the result ppcr::align (which sets the target itself) gives,
+  // with a finite initial guess and with a non-finite one.
+  for (const double entry : {0.1, kNaN}) {
+    Eigen::Isometry3d T_initial = Eigen::Isometry3d::Identity();
+    T_initial.translation().x() = entry;
+    r = reg.align(sc.source, T_initial);
+    const RegistrationResult one_shot =
+        ppcr::align(sc.source, PointCloud(2, Eigen::Vector3d::Zero()), scene_options(), T_initial);
+    INFO("initial x " << entry);
+    CHECK(r.status.code() == refused.code());
+    CHECK(r.status.message() == refused.message());
+    CHECK(r.status.message() == one_shot.status.message());
+    CHECK(r.stop_reason == StopReason::kInvalidInput);
+    CHECK(r.stop_reason == one_shot.stop_reason);
+    CHECK(r.T_target_source.matrix().cwiseEqual(one_shot.T_target_source.matrix()).all());
+    CHECK(r.quality == one_shot.quality);
+    CHECK(r.iterations == one_shot.iterations);
+    CHECK(r.source_points == one_shot.source_points);
+    CHECK(r.target_points == one_shot.target_points);
+    CHECK(r.source_non_finite == one_shot.source_non_finite);
+    CHECK(r.target_non_finite == one_shot.target_non_finite);
+  }
   // A refused set_target_to_source() likewise (no source: the last align() was refused).
   const ppcr::Status no_source = reg.set_target_to_source();
   CHECK(no_source.code() == StatusCode::kEmptyCloud);
