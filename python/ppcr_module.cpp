@@ -403,6 +403,8 @@ struct Result {
   std::size_t correspondences = 0;
   std::size_t source_non_finite = 0;
   std::size_t target_non_finite = 0;
+  std::size_t source_duplicates = 0;
+  std::size_t target_duplicates = 0;
   double target_surface_noise = 0.0;
   double target_spacing = 0.0;
   double radius = 0.0;
@@ -496,6 +498,8 @@ Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   out.correspondences = r.correspondences;
   out.source_non_finite = r.source_non_finite;
   out.target_non_finite = r.target_non_finite;
+  out.source_duplicates = r.source_duplicates;
+  out.target_duplicates = r.target_duplicates;
   out.target_surface_noise = r.target_surface_noise;
   out.target_spacing = r.target_spacing;
   out.radius = r.radius;
@@ -653,6 +657,10 @@ PYBIND11_MODULE(ppcr, m) {
                     "source points dropped as non-finite")
       .def_readonly("target_non_finite", &Result::target_non_finite,
                     "target points dropped as non-finite")
+      .def_readonly("source_duplicates", &Result::source_duplicates,
+                    "exact copies of a source point, registered once")
+      .def_readonly("target_duplicates", &Result::target_duplicates,
+                    "exact copies of a target point, used once")
       .def_readonly("target_surface_noise", &Result::target_surface_noise,
                     "plane model: the target's surface noise, cloud units")
       .def_readonly("target_spacing", &Result::target_spacing,

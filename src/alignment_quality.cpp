@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "thread_pool.hpp"
@@ -45,11 +46,15 @@ bool on_surface(const SurfaceTestSq& t, std::uint32_t index, const Eigen::Vector
   return along * along <= t.close_sq && d_sq <= t.reach_sq;
 }
 
-// Nearest point of `tree` within radius of each T * points[i], whether it is within near_sq and,
-// if `surface` is given, whether a near point is on the surface. Summed per block, then in order.
-Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::Isometry3d& T,
-                    double radius_sq, double near_sq, const SurfaceTestSq* surface,
-                    const ThreadPool* pool, std::vector<double>* scratch) {
+// Nearest point of `tree` (built over `indexed`) within radius of each T * points[i], whether it
+// is within near_sq and, if `surface` is given, whether a near point is on the surface. Summed per
+// block, then in order. Each query is seeded (kdtree.hpp, "Seeded queries") by the previous
+// point's nearest, a real indexed point: in the clouds' Z-order consecutive points lie close, so
+// the bound prunes from the first leaf on; the result is the unseeded query's, ties included.
+Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
+                    const Eigen::Isometry3d& T, double radius_sq, double near_sq,
+                    const SurfaceTestSq* surface, const ThreadPool* pool,
+                    std::vector<double>* scratch) {
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
   double* blocks = scratch->data();
@@ -57,11 +62,15 @@ Sums nearest_within(const KdTree& tree, const PointCloud& points, const Eigen::I
     Sums s;
     const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
     const std::size_t end = std::min(points.size(), begin + kBlock);
+    bool seeded = false;  // whether `index` holds the previous point's nearest
+    std::uint32_t index = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      std::uint32_t index;
       double d_sq;
       const Eigen::Vector3d p = T * points[i];
-      if (tree.radius_knn(p, 1, radius_sq, &index, &d_sq) == 1) {
+      const double seed_sq =
+          seeded ? seed_bound_sq(p, indexed, &index, 1) : std::numeric_limits<double>::infinity();
+      seeded = seeded_radius_knn(tree, p, 1, seed_sq, radius_sq, &index, &d_sq).found == 1;
+      if (seeded) {
         s.matched += 1.0;
         s.dist_sq += d_sq;
         if (d_sq > near_sq) continue;
@@ -97,15 +106,15 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
   const double radius_sq = radius * radius;
   const double near_sq = near_distance * near_distance;
   const SurfaceTestSq surface_sq(surface);
-  const Sums s = nearest_within(target_tree, source, T_target_source, radius_sq, near_sq,
+  const Sums s = nearest_within(target_tree, target, source, T_target_source, radius_sq, near_sq,
                                 &surface_sq, pool, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
   q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
-    const Sums back = nearest_within(*source_tree, target, T_target_source.inverse(), radius_sq,
-                                     near_sq, nullptr, pool, scratch);
+    const Sums back = nearest_within(*source_tree, source, target, T_target_source.inverse(),
+                                     radius_sq, near_sq, nullptr, pool, scratch);
     q.overlap = std::min(q.fitness, back.matched / static_cast<double>(target.size()));
   }
   return q;

@@ -28,9 +28,10 @@ struct PreparedCloud {
   // is origin + unit * c, to rounding (user_point()).
   PointCloud centered;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  double unit = 1.0;        // internal length unit, in cloud units
-  double extent = 0.0;      // max |p - origin| per axis over the kept points, cloud units
-  std::size_t dropped = 0;  // non-finite, or too far from the origin for a finite squared norm
+  double unit = 1.0;           // internal length unit, in cloud units
+  double extent = 0.0;         // max |p - origin| per axis over the kept points, cloud units
+  std::size_t dropped = 0;     // non-finite, or too far from the origin for a finite squared norm
+  std::size_t duplicates = 0;  // copies of a kept point removed (spatial_order.hpp)
 
   Eigen::Vector3d user_point(std::size_t i) const { return origin + unit * centered[i]; }
 };

@@ -158,6 +158,7 @@ struct Registration::Impl {
   SurfaceFits fit_surface(const PointCloud& cloud, const detail::KdTree& index,
                           std::vector<Eigen::Vector3d>* normals) const;
   Status make_target(const PointCloud& cloud, double voxel);
+  void order(detail::PreparedCloud* cloud);
   Status take_source();
   Status index_target();
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
@@ -225,6 +226,7 @@ Status Registration::Impl::take_source() {
     for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = source.user_point(i);
     const Status s = make_target(filtered, 0.0);
     target.dropped = source.dropped;
+    target.duplicates = source.duplicates;
     return s;
   }
   std::swap(target, source);
@@ -233,13 +235,23 @@ Status Registration::Impl::take_source() {
   return adopt_target(source_fits, source_normals);
 }
 
-// Prepares `cloud` as the target: filtered, centred in its own unit, Z-ordered (a source point's
-// neighbours then lie near each other in memory: spatial_order.hpp), then index_target().
+// Prepares `cloud` as the target: filtered, centred in its own unit, ordered (order()), then
+// index_target().
 Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
   const Status s = detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &target);
   if (!s.ok()) return s;
-  detail::spatial_sort(&target.centered, nullptr, &sort_scratch);
+  order(&target);
   return index_target();
+}
+
+// Z-orders a prepared cloud (a point's neighbours then lie near each other in memory:
+// spatial_order.hpp) and keeps one of each set of equal points. Copies add no sample of the
+// surface, only ties: every copy has the same neighbours, and a search visits each copy within
+// its bound (a scanner's invalid returns, thousands at its origin, made a full-resolution scan
+// pair take twice as long, and biased its result).
+void Registration::Impl::order(detail::PreparedCloud* cloud) {
+  detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch);
+  cloud->duplicates = detail::drop_duplicates(&cloud->centered);
 }
 
 // The prepared, Z-ordered target's tree and (plane model) normal fits, then adopt_target().
@@ -318,7 +330,9 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
       detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
-  detail::spatial_sort(&source.centered, nullptr, &sort_scratch);
+  order(&source);
+  result->source_duplicates = source.duplicates;
+  result->target_duplicates = target.duplicates;
   result->source_points = source.centered.size();
   result->target_points = target.centered.size();
   result->target_non_finite = target.dropped;

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -82,7 +83,37 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
     keys[i] = {code, static_cast<std::uint32_t>(i)};
   }
   std::sort(keys.begin(), keys.end());  // (code, index) pairs are distinct: a total order
+  // Within a cell (equal codes), by coordinates, then index: exact duplicates become adjacent
+  // (drop_duplicates), and the order does not depend on the input's. Such runs are rare and short
+  // but for repeated points (a scanner's invalid returns at its origin).
+  const PointCloud& points = *a;
+  auto by_coordinates = [&points](const std::pair<std::uint64_t, std::uint32_t>& l,
+                                  const std::pair<std::uint64_t, std::uint32_t>& r) {
+    const Eigen::Vector3d& p = points[l.second];
+    const Eigen::Vector3d& q = points[r.second];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return l.second < r.second;
+  };
+  for (std::size_t begin = 0; begin < n;) {
+    std::size_t end = begin + 1;
+    while (end < n && keys[end].first == keys[begin].first) ++end;
+    if (end - begin > 1) std::sort(keys.begin() + begin, keys.begin() + end, by_coordinates);
+    begin = end;
+  }
   permute(&keys, a, b);
+}
+
+std::size_t drop_duplicates(PointCloud* sorted) {
+  if (sorted->empty()) return 0;
+  std::size_t kept = 1;
+  for (std::size_t i = 1; i < sorted->size(); ++i) {
+    if ((*sorted)[i] != (*sorted)[kept - 1]) (*sorted)[kept++] = (*sorted)[i];
+  }
+  const std::size_t removed = sorted->size() - kept;
+  sorted->resize(kept);
+  return removed;
 }
 
 }  // namespace detail

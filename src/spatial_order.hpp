@@ -9,9 +9,10 @@
 // (docs/PERFORMANCE.md). The order is internal; it changes results only as any order does: sums
 // are taken in another order (rounding), and among neighbours at exactly equal distances the
 // k-d tree's visiting order decides which are kept. The Z-order makes both independent of the
-// order of the input points (for points in distinct cells).
+// order of the input points (equal points aside: drop_duplicates() keeps one of them).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -31,10 +32,17 @@ struct SpatialSortScratch {
 
 /// Reorders *a (and *b, of the same size, by the same permutation, if not null) in place by the
 /// Morton code of each point of *a over *a's bounding box, in cubic cells of 1 / 2^21 of its
-/// longest side, ties by index (deterministic). Points must be finite; a cloud of fewer than 2 or
-/// 2^31 or more points, of identical points or whose extent overflows a double is left as it is.
-/// Allocation-free once the scratch is as large.
+/// longest side, ties (one cell) by x, then y, then z, then index: equal points end up adjacent,
+/// in their input order. Points must be finite; a cloud of fewer than 2 or 2^31 or more points,
+/// of identical points or whose extent overflows a double is left as it is. Allocation-free once
+/// the scratch is as large.
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
+
+/// Removes the exact duplicates of a cloud in spatial_sort()'s order, where they are adjacent:
+/// of each run of equal points (==, so -0 equals +0) the first is kept. Returns how many were
+/// removed. In place, order kept, O(n); a cloud spatial_sort() left as it was (an extent beyond a
+/// double, 2^31 points or more) loses only its adjacent duplicates.
+std::size_t drop_duplicates(PointCloud* sorted);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -203,6 +203,12 @@ void print_summary(const ppcr::RegistrationResult& result, double time_ms,
                  gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);
   }
   std::fprintf(stderr, "\n");
+  if (result.source_duplicates + result.target_duplicates > 0) {
+    std::fprintf(stderr,
+                 "ppcr_cli: copies of a point registered once: %zu in the source, %zu in the "
+                 "target\n",
+                 result.source_duplicates, result.target_duplicates);
+  }
 }
 
 // The exit status of a registration that ran: 3 when its verdict is failed or its fitness is

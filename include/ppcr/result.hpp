@@ -83,6 +83,10 @@ struct RegistrationResult {
   // overflows (|p - median| > ~1e154).
   std::size_t source_non_finite = 0;
   std::size_t target_non_finite = 0;
+  // Exact copies of a kept point (after the voxel filter), registered once: the points in
+  // source_points / target_points are distinct.
+  std::size_t source_duplicates = 0;
+  std::size_t target_duplicates = 0;
   /// Plane model: the target's surface noise, cloud units: the median RMS distance of a normal
   /// fit's points from their plane (sensor noise and roughness); 0 for the point model.
   double target_surface_noise = 0.0;

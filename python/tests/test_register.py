@@ -178,6 +178,15 @@ def test_non_finite_points_dropped_and_counted(pair):
     assert r.source_points == len(source) - r.source_non_finite
 
 
+def test_duplicates_registered_once_and_counted(pair):
+    source, target, _ = pair
+    copies = np.vstack([source, source[::4], np.zeros((200, 3)), np.zeros((1, 3))])
+    r = ppcr.register(copies, target, radius=0.1)
+    assert r.source_duplicates == len(source[::4]) + 200
+    assert r.source_points == len(source) + 1
+    assert r.target_duplicates == 0
+
+
 def test_on_iteration(pair):
     source, target, _ = pair
     seen = []

@@ -1,6 +1,10 @@
 // measure_alignment's surface test on hand-placed points: along the nearest target point's
 // normal, within the reach (never below close_distance), and the point test without normals.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "alignment_quality.hpp"
@@ -49,4 +53,78 @@ TEST_CASE(
   CHECK(share({close, &planes, 0.001}) == Approx(1.0 / 3.0));
   // Far above the plane: never on the surface, whatever the reach.
   CHECK(share({close, &planes, 1.0}) == Approx(2.0 / 3.0));
+}
+
+// The plain path: each point's nearest by an unseeded query, counted one by one.
+namespace {
+struct PlainSums {
+  std::size_t matched = 0, near = 0, close = 0;
+  double dist_sq = 0.0;
+};
+PlainSums plain_nearest(const ppcr::detail::KdTree& tree, const PointCloud& points,
+                        const Eigen::Isometry3d& T, double radius_sq, double near_sq,
+                        double close_sq, const std::vector<ppcr::detail::PlanePoint>* planes) {
+  PlainSums s;
+  for (const Eigen::Vector3d& x : points) {
+    const Eigen::Vector3d p = T * x;
+    std::uint32_t index;
+    double d_sq;
+    if (tree.radius_knn(p, 1, radius_sq, &index, &d_sq) != 1) continue;
+    ++s.matched;
+    s.dist_sq += d_sq;
+    if (d_sq > near_sq) continue;
+    ++s.near;
+    if (planes == nullptr) continue;
+    const double along = (*planes)[index].n.dot(p - (*planes)[index].y);
+    s.close += along * along <= close_sq && d_sq <= close_sq ? 1 : 0;
+  }
+  return s;
+}
+}  // namespace
+
+TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts, ties included",
+          "[alignment_quality]") {
+  // Integer lattices: many nearest points at exactly equal distances, so a seeded query that
+  // picked another of the tied points would change close_fraction (the tangent-plane test reads
+  // the chosen point's normal, and the normals differ: a bumpy surface). And a moved copy.
+  PointCloud target, source;
+  for (int i = 0; i < 60; ++i) {
+    for (int j = 0; j < 60; ++j) target.emplace_back(i, j, (i * 7 + j * 3) % 5 == 0 ? 1.0 : 0.0);
+  }
+  for (int i = -5; i < 70; ++i) {
+    for (int j = -5; j < 70; j += 2) source.emplace_back(i + 0.5, j + 0.5, 0.5);
+  }
+  ppcr::detail::KdTree target_tree, source_tree;
+  REQUIRE(target_tree.build(target).ok());
+  REQUIRE(source_tree.build(source).ok());
+  std::vector<Eigen::Vector3d> normals;
+  ppcr::detail::compute_normals(target, target_tree, 8, nullptr, &normals);
+  std::vector<ppcr::detail::PlanePoint> planes;
+  ppcr::detail::pack_plane_points(target, normals, 0.05, &planes);
+  const double radius = 3.0, near = 2.0, close = 1.2;
+  for (const Eigen::Isometry3d& T :
+       {Eigen::Isometry3d(Eigen::Isometry3d::Identity()),
+        core_test::make_pose(Eigen::Vector3d(1, 2, 3), core_test::deg2rad(10),
+                             Eigen::Vector3d(0.3, -0.2, 0.1))}) {
+    for (int threads : {1, 2}) {
+      std::vector<double> scratch;
+      const ppcr::detail::AlignmentQuality q = ppcr::detail::measure_alignment(
+          target_tree, target, source, &source_tree, T, radius, near, {close, &planes, close},
+          core_test::pool(threads), &scratch);
+      const PlainSums s = plain_nearest(target_tree, source, T, radius * radius, near * near,
+                                        close * close, &planes);
+      const PlainSums back = plain_nearest(source_tree, target, T.inverse(), radius * radius,
+                                           near * near, close * close, nullptr);
+      REQUIRE(s.matched > 1000);
+      REQUIRE(s.matched < source.size());  // some source points lie beyond the radius
+      REQUIRE(s.close > 0);
+      REQUIRE(s.close < s.near);
+      CHECK(q.fitness == static_cast<double>(s.matched) / static_cast<double>(source.size()));
+      CHECK(q.inlier_rmse ==
+            Approx(std::sqrt(s.dist_sq / static_cast<double>(s.matched))).epsilon(1e-12));
+      CHECK(q.close_fraction == static_cast<double>(s.close) / static_cast<double>(s.near));
+      CHECK(q.overlap == std::min(q.fitness, static_cast<double>(back.matched) /
+                                                 static_cast<double>(target.size())));
+    }
+  }
 }

@@ -1731,3 +1731,41 @@ TEST_CASE("a right registration of ring-sampled scans is not flagged", "[registr
   CHECK(r.close_fraction > 0.9);
   CHECK(r.quality == ppcr::Quality::kGood);
 }
+
+TEST_CASE("exact duplicates are registered once: the clean clouds' pose, and counted",
+          "[registration]") {
+  const Scene sc = make_scene(2000, 4000, false);
+  const RegistrationOptions o = scene_options();
+  // Copies as a scanner leaves them: hundreds of invalid returns at its origin (in each cloud's
+  // own frame), and points written twice; shuffled in.
+  auto with_copies = [](const PointCloud& clean, std::size_t at_origin, std::uint64_t seed) {
+    Rng rng(seed);
+    PointCloud out = clean;
+    out.push_back(Eigen::Vector3d::Zero());  // the origin once: a real point the copies repeat
+    for (std::size_t i = 0; i < at_origin; ++i) out.push_back(Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < clean.size(); i += 3) out.push_back(clean[i]);
+    for (std::size_t i = out.size() - 1; i > 0; --i) {
+      std::swap(out[i], out[static_cast<std::size_t>(rng() % (i + 1))]);
+    }
+    return out;
+  };
+  PointCloud clean_source = sc.source, clean_target = sc.target;
+  clean_source.push_back(Eigen::Vector3d::Zero());
+  clean_target.push_back(Eigen::Vector3d::Zero());
+  const RegistrationResult clean = ppcr::align(clean_source, clean_target, o);
+  const RegistrationResult r =
+      ppcr::align(with_copies(sc.source, 500, 1), with_copies(sc.target, 300, 2), o);
+  REQUIRE(clean.status.ok());
+  REQUIRE(r.status.ok());
+  CHECK(clean.source_duplicates == 0);
+  CHECK(clean.target_duplicates == 0);
+  CHECK(r.source_duplicates == 500 + (sc.source.size() + 2) / 3);
+  CHECK(r.target_duplicates == 300 + (sc.target.size() + 2) / 3);
+  CHECK(r.source_points == clean.source_points);
+  CHECK(r.target_points == clean.target_points);
+  // The same points, centred on another median (the copies move it): equal to rounding.
+  CHECK(rms_error(sc.source, r.T_target_source, clean.T_target_source) < 1e-9);
+  CHECK(r.fitness == clean.fitness);
+  CHECK(r.iterations == clean.iterations);
+  CHECK(rms_error(sc.source, r.T_target_source, sc.T_true) < 1e-3);
+}

@@ -37,8 +37,8 @@ PointCloud index_cloud(std::size_t n) {
   return c;
 }
 
-// Checks that spatial_sort(original) is a permutation ordered by reference_code, ties by index,
-// that moves a second cloud alike.
+// Checks that spatial_sort(original) is a permutation ordered by reference_code, ties by x, y, z,
+// then index, that moves a second cloud alike.
 void check_sorted(const PointCloud& original) {
   PointCloud a = original;
   PointCloud b = index_cloud(a.size());
@@ -62,19 +62,30 @@ void check_sorted(const PointCloud& original) {
       const std::size_t prev = static_cast<std::size_t>(b[i - 1].x());
       const std::uint64_t c0 = reference_code(original[prev], lo, extent);
       const std::uint64_t c1 = reference_code(original[from], lo, extent);
-      CHECK((c0 < c1 || (c0 == c1 && prev < from)));
+      const Eigen::Vector3d& p0 = original[prev];
+      const Eigen::Vector3d& p1 = original[from];
+      const bool coordinates_before =
+          p0.x() < p1.x() ||
+          (p0.x() == p1.x() &&
+           (p0.y() < p1.y() ||
+            (p0.y() == p1.y() && (p0.z() < p1.z() || (p0.z() == p1.z() && prev < from)))));
+      CHECK((c0 < c1 || (c0 == c1 && coordinates_before)));
     }
   }
 }
 
 }  // namespace
 
-TEST_CASE("spatial_sort orders by the Morton code, ties by index, and moves b alike",
+TEST_CASE("spatial_sort orders by the Morton code, ties by coordinates, and moves b alike",
           "[spatial_order]") {
   core_test::Rng rng(91);
   PointCloud a = core_test::uniform_cloud(rng, 3000, -2.0, 5.0);
-  // Ties: copies of earlier points (equal codes), and a flat axis (z of a quarter set to 0).
+  // Ties: copies of earlier points (equal codes), distinct points in one cell (1e-9 apart: a
+  // cell is ~3e-6 wide here), and a flat axis (z of a quarter set to 0).
   for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
+  for (std::size_t i = 0; i < 100; ++i) {
+    a[2400 + i] = a[2200 + i] + Eigen::Vector3d(1e-9 * (i % 3), 1e-9 * (i % 2), 1e-9);
+  }
   for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
   check_sorted(a);
   // Extents of ~7e-305 and ~7e300 (2^21 / extent would overflow for the first: below ~1.2e-302).
@@ -132,4 +143,48 @@ TEST_CASE("spatial_sort keeps the order of identical points and of tiny clouds",
   PointCloud none;
   spatial_sort(&none, nullptr, &scratch);
   CHECK(none.empty());
+}
+
+TEST_CASE("drop_duplicates: after spatial_sort, one of each set of equal points, brute force",
+          "[spatial_order]") {
+  core_test::Rng rng(93);
+  PointCloud a = core_test::uniform_cloud(rng, 2000, -1.0, 1.0);
+  // Runs of copies (up to 40 of one point, as a scanner's invalid returns at its origin), points
+  // 1e-12 from another (distinct, one cell) and a -0 / +0 pair (equal).
+  for (std::size_t i = 0; i < 300; ++i) a[1000 + i] = a[i % 7];
+  for (std::size_t i = 0; i < 50; ++i) a[1500 + i] = a[i] + Eigen::Vector3d(1e-12, 0, 0);
+  a[1600] = Eigen::Vector3d(0.0, 0.5, 0.5);
+  a[1601] = Eigen::Vector3d(-0.0, 0.5, 0.5);
+  // Brute force: the distinct points (== as the function compares).
+  std::vector<Eigen::Vector3d> distinct;
+  for (const Eigen::Vector3d& p : a) {
+    if (std::none_of(distinct.begin(), distinct.end(),
+                     [&p](const Eigen::Vector3d& q) { return q == p; })) {
+      distinct.push_back(p);
+    }
+  }
+  for (std::size_t shuffle = 0; shuffle < 2; ++shuffle) {
+    PointCloud b = a;
+    if (shuffle == 1) std::reverse(b.begin(), b.end());
+    SpatialSortScratch scratch;
+    spatial_sort(&b, nullptr, &scratch);
+    const std::size_t removed = ppcr::detail::drop_duplicates(&b);
+    CHECK(removed == a.size() - distinct.size());
+    REQUIRE(b.size() == distinct.size());
+    for (const Eigen::Vector3d& p : distinct) {
+      CHECK(std::count(b.begin(), b.end(), p) == 1);
+    }
+    // The input's order does not change the result (the -0 / +0 pair aside, kept as either).
+    if (shuffle == 0) continue;
+    PointCloud c = a;
+    spatial_sort(&c, nullptr, &scratch);
+    ppcr::detail::drop_duplicates(&c);
+    for (std::size_t i = 0; i < c.size(); ++i) CHECK(c[i] == b[i]);
+  }
+  // A cloud of identical points (spatial_sort leaves it as it is): one point.
+  PointCloud same(5, Eigen::Vector3d(1.0, 2.0, 3.0));
+  CHECK(ppcr::detail::drop_duplicates(&same) == 4);
+  CHECK(same.size() == 1);
+  PointCloud none;
+  CHECK(ppcr::detail::drop_duplicates(&none) == 0);
 }

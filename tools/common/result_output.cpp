@@ -42,6 +42,8 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["target_points"] = r.target_points;
   j["source_non_finite"] = r.source_non_finite;
   j["target_non_finite"] = r.target_non_finite;
+  j["source_duplicates"] = r.source_duplicates;
+  j["target_duplicates"] = r.target_duplicates;
   j["fitness"] = r.fitness;
   j["inlier_rmse"] = r.inlier_rmse;
   j["overlap"] = r.overlap;
