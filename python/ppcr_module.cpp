@@ -658,9 +658,9 @@ PYBIND11_MODULE(ppcr, m) {
       .def_readonly("target_non_finite", &Result::target_non_finite,
                     "target points dropped as non-finite")
       .def_readonly("source_duplicates", &Result::source_duplicates,
-                    "exact copies of a source point, registered once")
+                    "copies of a source point (equal in the solver's frame), registered once")
       .def_readonly("target_duplicates", &Result::target_duplicates,
-                    "exact copies of a target point, used once")
+                    "copies of a target point (equal in the solver's frame), used once")
       .def_readonly("target_surface_noise", &Result::target_surface_noise,
                     "plane model: the target's surface noise, cloud units")
       .def_readonly("target_spacing", &Result::target_spacing,

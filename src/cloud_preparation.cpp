@@ -25,8 +25,8 @@ Status too_few(const char* name, std::size_t kept, std::size_t input, std::size_
 }
 
 // Per-axis median of the cloud, O(n) (nth_element), reordering it: no copy of a coordinate. The
-// Z-order sort then sets the order; only distinct points in one of its cells (1 / 2^21 of the
-// extent) keep this one, which is deterministic for a given standard library.
+// Z-order sort then sets the order (spatial_order.hpp); only equal points keep this one among
+// themselves, and all but one of them are dropped.
 Eigen::Vector3d median_origin(PointCloud* cloud) {
   Eigen::Vector3d origin;
   const auto mid = cloud->begin() + static_cast<std::ptrdiff_t>(cloud->size() / 2);

@@ -226,7 +226,7 @@ Status Registration::Impl::take_source() {
     for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = source.user_point(i);
     const Status s = make_target(filtered, 0.0);
     target.dropped = source.dropped;
-    target.duplicates = source.duplicates;
+    target.duplicates += source.duplicates;  // with any the new unit's rounding merged
     return s;
   }
   std::swap(target, source);

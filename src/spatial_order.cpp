@@ -84,8 +84,9 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
   }
   std::sort(keys.begin(), keys.end());  // (code, index) pairs are distinct: a total order
   // Within a cell (equal codes), by coordinates, then index: exact duplicates become adjacent
-  // (drop_duplicates), and the order does not depend on the input's. Such runs are rare and short
-  // but for repeated points (a scanner's invalid returns at its origin).
+  // (drop_duplicates), and the order does not depend on the input's. Runs are short but for
+  // repeated points (a scanner's invalid returns at its origin) or a far outlier that widens the
+  // cells; a run of m points costs O(m log m).
   const PointCloud& points = *a;
   auto by_coordinates = [&points](const std::pair<std::uint64_t, std::uint32_t>& l,
                                   const std::pair<std::uint64_t, std::uint32_t>& r) {

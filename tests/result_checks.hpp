@@ -26,6 +26,10 @@ inline void check_identical(const ppcr::RegistrationResult& a, const ppcr::Regis
   CHECK(a.correspondences == b.correspondences);
   CHECK(a.source_points == b.source_points);
   CHECK(a.target_points == b.target_points);
+  CHECK(a.source_non_finite == b.source_non_finite);
+  CHECK(a.target_non_finite == b.target_non_finite);
+  CHECK(a.source_duplicates == b.source_duplicates);
+  CHECK(a.target_duplicates == b.target_duplicates);
   CHECK(a.radius == b.radius);
   CHECK(a.target_spacing == b.target_spacing);
   CHECK(a.target_surface_noise == b.target_surface_noise);

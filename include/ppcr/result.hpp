@@ -83,8 +83,10 @@ struct RegistrationResult {
   // overflows (|p - median| > ~1e154).
   std::size_t source_non_finite = 0;
   std::size_t target_non_finite = 0;
-  // Exact copies of a kept point (after the voxel filter), registered once: the points in
-  // source_points / target_points are distinct.
+  // Copies of a kept point, registered once: equal in the solver's frame (centred and scaled;
+  // exact copies, or points within a rounding of each other), after the voxel filter. The points
+  // in source_points / target_points are distinct. The minimum of 3 points counts copies: a
+  // cloud of identical points registers as one point.
   std::size_t source_duplicates = 0;
   std::size_t target_duplicates = 0;
   /// Plane model: the target's surface noise, cloud units: the median RMS distance of a normal

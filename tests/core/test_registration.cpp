@@ -686,7 +686,7 @@ TEST_CASE("bit-identical T_target_source with num_threads 1 and 2", "[registrati
 TEST_CASE("the order of the input points changes nothing (internal Z-order), both models",
           "[registration]") {
   // Both clouds are sorted along a Z-order curve inside (spatial_order.hpp): reversed or
-  // shuffled inputs of points in distinct cells give the same internal clouds, hence the same
+  // shuffled inputs of distinct points give the same internal clouds, hence the same
   // result to the bit. The second scene is a lattice (three orthogonal grids): its normal fits
   // meet many neighbours at exactly equal distances, where the k-d tree's visiting order, i.e.
   // the target's order, decides which are kept.

@@ -84,7 +84,7 @@ TEST_CASE("spatial_sort orders by the Morton code, ties by coordinates, and move
   // cell is ~3e-6 wide here), and a flat axis (z of a quarter set to 0).
   for (std::size_t i = 0; i < 200; ++i) a[2000 + i] = a[i];
   for (std::size_t i = 0; i < 100; ++i) {
-    a[2400 + i] = a[2200 + i] + Eigen::Vector3d(1e-9 * (i % 3), 1e-9 * (i % 2), 1e-9);
+    a[2400 + i] = a[2200 + i] - Eigen::Vector3d(1e-9 * (i % 3), 1e-9 * (i % 2), 1e-9);
   }
   for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
   check_sorted(a);
@@ -155,6 +155,13 @@ TEST_CASE("drop_duplicates: after spatial_sort, one of each set of equal points,
   for (std::size_t i = 0; i < 50; ++i) a[1500 + i] = a[i] + Eigen::Vector3d(1e-12, 0, 0);
   a[1600] = Eigen::Vector3d(0.0, 0.5, 0.5);
   a[1601] = Eigen::Vector3d(-0.0, 0.5, 0.5);
+  // Copies with a distinct point of their cell between them, in index order (ties by index
+  // alone would leave them apart).
+  for (std::size_t i = 0; i < 30; ++i) {
+    a[1700 + 3 * i] = a[100 + i];
+    a[1701 + 3 * i] = a[100 + i] + Eigen::Vector3d(0, 1e-12, 0);
+    a[1702 + 3 * i] = a[100 + i];
+  }
   // Brute force: the distinct points (== as the function compares).
   std::vector<Eigen::Vector3d> distinct;
   for (const Eigen::Vector3d& p : a) {

@@ -34,6 +34,8 @@ Sequence make_sequence(std::uint64_t seed) {
   for (int i = 0; i < 5; ++i) {
     const PointCloud world = core_test::analytic_scene(rng, 4000);
     s.scans.push_back(core_test::transformed(world, T.inverse()));
+    // Copies (counted by each result, also when the source becomes the target).
+    for (int k = 0; k < 20 + i; ++k) s.scans.back().push_back(s.scans.back()[10 * k]);
     s.T_world_scan.push_back(T);
     T = T * step;
   }
@@ -92,6 +94,7 @@ TEST_CASE("set_target_to_source: the same results as set_target with the same cl
       const RegistrationResult& a = fresh[i];
       const RegistrationResult& b = reused[i];
       test_checks::check_identical(a, b);
+      CHECK(b.target_duplicates == (c.voxel > 0.0 ? 0u : 20u + i));
       // And right: scan i + 1 onto scan i is T_world_scan(i)^-1 T_world_scan(i + 1).
       const Eigen::Isometry3d truth = seq.T_world_scan[i].inverse() * seq.T_world_scan[i + 1];
       CHECK(core_test::angle_between_deg(b.T_target_source.linear(), truth.linear()) < 0.2);
@@ -155,6 +158,18 @@ TEST_CASE(
   CHECK(r.target_spacing == Approx(f.target_spacing).epsilon(1e-12));
   CHECK(r.target_points == f.target_points);
   CHECK(r.quality == f.quality);
+  // Copies in b: counted when b, prepared again, is the target (the copies move b's median, so
+  // the pose is not compared here).
+  PointCloud b_copies = b;
+  for (std::size_t k = 0; k < 30; ++k) b_copies.push_back(b[7 * k]);
+  ppcr::Registration with_copies(o);
+  REQUIRE(with_copies.set_target(room).ok());
+  REQUIRE(with_copies.align(b_copies, step).source_duplicates == 30);
+  REQUIRE(with_copies.set_target_to_source().ok());
+  const RegistrationResult rc = with_copies.align(c, step);
+  REQUIRE(rc.status.ok());
+  CHECK(rc.target_duplicates == 30);
+  CHECK(rc.target_points == r.target_points);
 }
 
 TEST_CASE("set_target_to_source: refusals", "[registration][sequence]") {

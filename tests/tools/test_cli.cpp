@@ -81,6 +81,24 @@ TEST_CASE("ppcr_cli registers, and its JSON counts the points the reader dropped
   CHECK(contains(r.err, "fitness"));
 }
 
+TEST_CASE("ppcr_cli counts the copies of a point it registered once", "[cli]") {
+  write_pair();
+  {
+    std::ifstream in(kDir + "/source.xyz");
+    std::ofstream out(kDir + "/copies.xyz");
+    // One more point (off the grid), written 4 times: 3 copies.
+    out << in.rdbuf() << "0.013 -0.017 0\n0.013 -0.017 0\n0.013 -0.017 0\n0.013 -0.017 0\n";
+  }
+  const std::string args = "'" + kDir + "/copies.xyz' '" + kDir + "/target.xyz' --radius 0.1";
+  const Run json = run_cli(args + " --json");
+  INFO(json.err);
+  REQUIRE(json.status == 0);
+  CHECK(contains(json.out, "\"source_duplicates\": 3"));
+  CHECK(contains(json.out, "\"target_duplicates\": 0"));
+  const Run text = run_cli(args);
+  CHECK(contains(text.err, "copies of a point registered once: 3 in the source, 0 in the target"));
+}
+
 TEST_CASE("ppcr_cli: a stdout that cannot be written is exit 1", "[cli]") {
   write_pair();
   for (const std::string& args : {pair_args() + " --json", pair_args(), std::string("--help")}) {
