@@ -164,8 +164,8 @@ struct Registration::Impl {
   Status adopt_target(const SurfaceFits& fits, const std::vector<Eigen::Vector3d>& normals);
   Status check_input(const Eigen::Isometry3d& T_initial) const;
   Status prepare_source(const PointCloud& cloud, RegistrationResult* result);
-  Status prepare(const PointCloud& cloud, const Eigen::Isometry3d& T_initial,
-                 RegistrationResult* result);
+  RegistrationResult align(const PointCloud& cloud, const Eigen::Isometry3d& T_initial,
+                           PointCloud* consumed);
   RegistrationResult iterate(const Eigen::Isometry3d& T_initial, RegistrationResult result);
   detail::LMProblem problem(double step_reference, double source_extent) const;
   Run start(const Eigen::Isometry3d& T_initial, RegistrationResult* result);
@@ -298,11 +298,12 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
   }
   radius = solver.radius * target.unit;
   if (plane_model()) {
+    // The pair normals form each pair's information in the pass: no per-target-point moments.
+    auto* information = pair_normals() ? nullptr : &target_plane_information;
     detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
-                              &target_plane_points,
-                              pair_normals() ? nullptr : &target_plane_information);
+                              &target_plane_points, information);
     plane.points = &target_plane_points;
-    plane.information = pair_normals() ? nullptr : &target_plane_information;
+    plane.information = information;
     plane.epsilon = solver.expert.plane_epsilon;
   }
   associator.set_target(&tree, &target.centered);
@@ -452,25 +453,25 @@ Status Registration::Impl::no_pairs(const Eigen::Isometry3d& T_initial) const {
 
 RegistrationResult Registration::align(const PointCloud& source,
                                        const Eigen::Isometry3d& T_initial) {
-  RegistrationResult result;
-  const Status s = impl_->prepare(source, T_initial, &result);
-  if (!s.ok()) return refused(s, T_initial, std::move(result));
-  return impl_->iterate(T_initial, std::move(result));
+  return impl_->align(source, T_initial, nullptr);
 }
 
 RegistrationResult Registration::align(PointCloud&& source, const Eigen::Isometry3d& T_initial) {
-  RegistrationResult result;
-  const Status s = impl_->prepare(source, T_initial, &result);
-  PointCloud().swap(source);  // the iterations need only the prepared copy
-  if (!s.ok()) return refused(s, T_initial, std::move(result));
-  return impl_->iterate(T_initial, std::move(result));
+  return impl_->align(source, T_initial, &source);
 }
 
-Status Registration::Impl::prepare(const PointCloud& cloud, const Eigen::Isometry3d& T_initial,
-                                   RegistrationResult* result) {
+// Checks the input and prepares the source, frees `consumed` (the caller's cloud, when it handed
+// it over: the iterations need only the prepared copy), then iterates or returns the refusal.
+RegistrationResult Registration::Impl::align(const PointCloud& cloud,
+                                             const Eigen::Isometry3d& T_initial,
+                                             PointCloud* consumed) {
+  RegistrationResult result;
   has_source = false;  // until this call's source is prepared
-  const Status s = check_input(T_initial);
-  return s.ok() ? prepare_source(cloud, result) : s;
+  Status s = check_input(T_initial);
+  if (s.ok()) s = prepare_source(cloud, &result);
+  if (consumed != nullptr) PointCloud().swap(*consumed);
+  if (!s.ok()) return refused(s, T_initial, std::move(result));
+  return iterate(T_initial, std::move(result));
 }
 
 // The outer loop (Sec. 3): associate, solve, ask the criterion, update the EM scale.
