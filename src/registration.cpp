@@ -248,7 +248,7 @@ Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
 // spatial_order.hpp) and keeps one of each set of equal points. Copies add no sample of the
 // surface, only ties: every copy has the same neighbours, and a search visits each copy within
 // its bound (a scanner's invalid returns, thousands at its origin, made a full-resolution scan
-// pair take twice as long, and biased its result).
+// pair take twice as long).
 void Registration::Impl::order(detail::PreparedCloud* cloud) {
   detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch);
   cloud->duplicates = detail::drop_duplicates(&cloud->centered);
