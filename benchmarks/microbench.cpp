@@ -67,7 +67,7 @@ void BM_TargetNormals(benchmark::State& state) {
   ppcr::detail::KdTree tree;
   (void)tree.build(target);
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread;
+  ppcr::detail::Buffer<double> spread;
   for (auto _ : state) {
     ppcr::detail::compute_normals(target, tree, 20, nullptr, &normals, &spread);
     benchmark::DoNotOptimize(normals.data());
@@ -199,9 +199,9 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &normals);
-  std::vector<ppcr::detail::PlanePoint> points;
-  std::vector<ppcr::detail::PlaneInformation> information;
-  ppcr::detail::pack_plane_points(f.target, normals, 0.05, &points, &information);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+  ppcr::detail::Buffer<ppcr::detail::PlaneInformation> information;
+  ppcr::detail::pack_plane_points(f.target, normals, 0.05, nullptr, &points, &information);
   ppcr::detail::PlaneModel plane;
   plane.points = &points;
   plane.information = &information;
@@ -226,8 +226,8 @@ void BM_PairNormals(benchmark::State& state) {
   ppcr::detail::KdTree source_tree;
   (void)source_tree.build(f.source);
   ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, &points);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, nullptr, &points);
   const std::size_t k = static_cast<std::size_t>(f.table.k);
   std::vector<ppcr::detail::PairNormal> pair_normals(k);
   const Eigen::Matrix3d R = small_motion().linear();

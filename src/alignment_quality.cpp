@@ -32,7 +32,7 @@ struct SurfaceTestSq {
         reach_sq(std::max(t.reach * t.reach, close_sq)),
         planes(t.planes) {}
   double close_sq, reach_sq;
-  const std::vector<PlanePoint>* planes;
+  const Buffer<PlanePoint>* planes;
 };
 
 // Whether p, whose nearest target point is y = points[index] at squared distance d_sq, is on the

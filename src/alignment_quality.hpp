@@ -34,7 +34,7 @@ struct AlignmentQuality {
 /// fit, whose neighbours line up along a ring.
 struct SurfaceTest {
   double close_distance = 0.0;
-  const std::vector<PlanePoint>* planes = nullptr;
+  const Buffer<PlanePoint>* planes = nullptr;
   double reach = 0.0;
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "buffer.hpp"
 #include "kdtree.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
@@ -20,10 +21,10 @@ class ThreadPool;  // thread_pool.hpp
 /// index[j * k + m] (into the target). Ties in distance are ordered by the path that wrote the
 /// row: by index through the neighbour cache, in the k-d tree's visit order through associate().
 /// The distances are not kept (each user computes its own residual: 8 B per slot less). Sized
-/// once by resize().
+/// once by resize(), which leaves every point without pairs.
 struct AssociationTable {
   int k = 0;
-  std::vector<std::uint32_t> index;
+  Buffer<std::uint32_t> index;       // written by each association before it is read
   std::vector<std::uint16_t> count;  // k <= kMaxNeighbours fits in 16 bits
   std::size_t pairs = 0;             // sum of count
   std::size_t matched = 0;           // source points with count > 0

@@ -37,10 +37,10 @@ static_assert(kLeafMaxSize <= kChunk, "a leaf of nanoflann's tree is scanned in 
 }  // namespace
 
 struct KdTree::Impl {
-  std::vector<FlatNode> nodes;
+  Buffer<FlatNode> nodes;
   // Point i of the n in the leaf order at (xyz[i], xyz[n + i], xyz[2 n + i]).
-  std::vector<double> xyz;
-  std::vector<std::uint32_t> index;                        // its index in the cloud
+  Buffer<double> xyz;
+  Buffer<std::uint32_t> index;                             // its index in the cloud
   double box_low[3] = {0, 0, 0}, box_high[3] = {0, 0, 0};  // the cloud's bounding box
 
   // Nodes of nanoflann's (sub)tree at node: flatten's count, so that `nodes` is sized once.
@@ -193,7 +193,7 @@ int KdTree::radius_knn(const Eigen::Vector3d& query, int k, double radius_sq,
 
 std::size_t KdTree::size() const { return impl_->index.size(); }
 
-const std::vector<std::uint32_t>& KdTree::leaf_order() const { return impl_->index; }
+const Buffer<std::uint32_t>& KdTree::leaf_order() const { return impl_->index; }
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

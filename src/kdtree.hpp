@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "buffer.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/status.hpp"
 #include "ppcr/types.hpp"
@@ -63,7 +64,7 @@ class KdTree {
 
   /// The indexed points' indices in the tree's leaf order (spatially coherent: queries made in
   /// this order reuse the same nodes and leaves).
-  const std::vector<std::uint32_t>& leaf_order() const;
+  const Buffer<std::uint32_t>& leaf_order() const;
 
  private:
   struct Impl;

@@ -14,7 +14,7 @@ namespace detail {
 
 void LMSolver::resize(std::size_t source_points, int k) {
   const std::size_t slots = source_points * static_cast<std::size_t>(k);
-  w_.assign(slots, 0.0);
+  w_.resize(slots);
   normal_equations_.resize(source_points, k);
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "association.hpp"
+#include "buffer.hpp"
 #include "lm.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/abi.hpp"
@@ -39,7 +40,7 @@ class LMSolver {
   /// at the pose before an unevaluated last step (lm.hpp).
   const Evaluation& last() const { return current_; }
   /// Weights of that evaluation, stride k.
-  const std::vector<double>& weights() const { return w_; }
+  const Buffer<double>& weights() const { return w_; }
 
  private:
   NormalEquations normal_equations_;
@@ -49,7 +50,7 @@ class LMSolver {
   // model, pair normals and weight parameters are fixed, so the E-step is a function of the pose
   // alone: they come back to the bit). One array instead of two: a rejected step costs a pass, and
   // none was rejected on the benchmark sets (docs/PERFORMANCE.md).
-  std::vector<double> w_;
+  Buffer<double> w_;  // written by each pass before it is read
   Evaluation current_, trial_;
 };
 

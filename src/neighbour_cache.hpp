@@ -70,6 +70,7 @@
 #include <vector>
 
 #include "association.hpp"
+#include "buffer.hpp"
 #include "kdtree.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
@@ -83,16 +84,16 @@ class ThreadPool;  // thread_pool.hpp
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
   int capacity = 0;
-  std::vector<std::uint32_t> index;   // capacity slots per source point
-  std::vector<std::uint16_t> count;   // candidates held (<= capacity)
-  std::vector<double> bound;          // B_j, cloud units; < 0 = no list yet
-  std::vector<double> set_radius_sq;  // rho_j^2, squared cloud units; < 0 = none (rho_j <= 0)
+  Buffer<std::uint32_t> index;       // capacity slots per source point
+  std::vector<std::uint16_t> count;  // candidates held (<= capacity)
+  Buffer<double> bound;              // B_j, cloud units; < 0 = no list yet
+  Buffer<double> set_radius_sq;      // rho_j^2, squared cloud units; < 0 = none (rho_j <= 0)
   // q_j and p' (where point j was last re-ranked), the tree's frame, are not stored: each is the
   // pose of one of the last kPoses calls applied to the source point, recomputed as that call
   // computed it, to the bit. A list or certificate from an older call is not used (the point is
   // queried again: the same row, as every path gives).
-  std::vector<std::uint32_t> query_call;   // the call whose pose gives q_j
-  std::vector<std::uint32_t> ranked_call;  // the call whose pose gives p'
+  Buffer<std::uint32_t> query_call;   // the call whose pose gives q_j
+  Buffer<std::uint32_t> ranked_call;  // the call whose pose gives p'
   struct Pose {
     Eigen::Matrix3d R;
     Eigen::Vector3d t;

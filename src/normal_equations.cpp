@@ -66,11 +66,12 @@ inline void add_plane_point(const Eigen::Vector3d& p, const Sym3& o, const Eigen
 }  // namespace
 
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, std::vector<PlanePoint>* out,
-                       std::vector<PlaneInformation>* information) {
+                       double epsilon, const ThreadPool* pool, Buffer<PlanePoint>* out,
+                       Buffer<PlaneInformation>* information) {
   out->resize(target.size());
   if (information != nullptr) information->resize(target.size());
-  for (std::size_t i = 0; i < target.size(); ++i) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(target.size()), [&](std::ptrdiff_t j) {
+    const std::size_t i = static_cast<std::size_t>(j);
     PlanePoint& q = (*out)[i];
     const Eigen::Vector3d& n = normals[i];
     q.y = target[i];
@@ -78,7 +79,7 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
     q.a = omega_isotropic(n, epsilon);
     const Eigen::Vector3d b = q.a * q.y + n * n.dot(q.y);  // Omega y
     q.b_z = b.z();
-    if (information == nullptr) continue;
+    if (information == nullptr) return;
     PlaneInformation& o = (*information)[i];
     o.omega_xx_yy[0] = q.a + n.x() * n.x();
     o.omega_xx_yy[1] = q.a + n.y() * n.y();
@@ -88,7 +89,7 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
     o.omega_xz_zz[1] = q.a + n.z() * n.z();
     o.b_xy[0] = b.x();
     o.b_xy[1] = b.y();
-  }
+  });
 }
 
 void NormalEquations::resize(std::size_t source_points, int k) {
@@ -379,7 +380,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
 Matrix6d NormalEquations::normal_information(const PointCloud& source,
                                              const AssociationTable& assoc,
                                              const Eigen::Isometry3d& T, const double* w,
-                                             const std::vector<PlanePoint>& target_points) {
+                                             const Buffer<PlanePoint>& target_points) {
   Matrix6d H = Matrix6d::Zero();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   for (std::size_t j = 0; j < source.size(); ++j) {

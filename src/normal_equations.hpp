@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "association.hpp"
+#include "buffer.hpp"
 #include "ppcr/abi.hpp"
 #include "weights.hpp"
 
@@ -73,10 +74,11 @@ static_assert(sizeof(PlaneInformation) == 64, "PlaneInformation: one cache line"
 
 /// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match), with b_z of
 /// b = a y + n (n . y), and, when `information` is given, Omega and b's x and y into
-/// (*information)[i]. Set-up: allocates.
+/// (*information)[i]. Set-up: allocates; parallel over the points on the pool's threads (null:
+/// the calling thread).
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, std::vector<PlanePoint>* out,
-                       std::vector<PlaneInformation>* information = nullptr);
+                       double epsilon, const ThreadPool* pool, Buffer<PlanePoint>* out,
+                       Buffer<PlaneInformation>* information = nullptr);
 
 /// What the plane pass forms the pairs' normals from (pair_normals.hpp): the source normals of
 /// the association table's rows, one per row, and the rotation R_target_source at which the table
@@ -98,9 +100,9 @@ struct PairNormal {
 struct PlaneModel {
   // Per target point (pack_plane_points), same order and positions as the target cloud passed
   // to evaluate().
-  const std::vector<PlanePoint>* points = nullptr;
+  const Buffer<PlanePoint>* points = nullptr;
   // The same points' Omega and b (pack_plane_points); needed without pair_source, unused with it.
-  const std::vector<PlaneInformation>* information = nullptr;
+  const Buffer<PlaneInformation>* information = nullptr;
   double epsilon = 0.05;  // in-plane weight (a of the pair normals; points carry their own a)
   // Optional (pair_normals.hpp): when set, each pair's normal, the mean of its target point's
   // and its source point's, replaces its target point's normal in Omega (fixed for the pass: not
@@ -153,7 +155,7 @@ class NormalEquations {
   /// leaves unconstrained. Serial; once per registration.
   static Matrix6d normal_information(const PointCloud& source, const AssociationTable& assoc,
                                      const Eigen::Isometry3d& T, const double* w,
-                                     const std::vector<PlanePoint>& target_points);
+                                     const Buffer<PlanePoint>& target_points);
 
  private:
   template <bool kPlane, bool kPairNormals, class Kernel>

@@ -10,10 +10,10 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-double upper_median_in_place(std::vector<double>* values) {
-  if (values->empty()) return 0.0;
-  const auto middle = values->begin() + static_cast<std::ptrdiff_t>(values->size() / 2);
-  std::nth_element(values->begin(), middle, values->end());
+double upper_median_in_place(double* values, std::size_t count) {
+  if (count == 0) return 0.0;
+  double* middle = values + count / 2;
+  std::nth_element(values, middle, values + count);
   return *middle;
 }
 
@@ -25,7 +25,7 @@ double nearest_nonzero_sq(const double* d2, int found) {
 }
 
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
-                      const std::vector<double>* nearest_sq, std::vector<double>* scratch) {
+                      const Buffer<double>* nearest_sq, std::vector<double>* scratch) {
   scratch->clear();
   if (points.size() < 2 || max_samples == 0) return 0.0;
   const std::size_t stride = std::max<std::size_t>(1, points.size() / max_samples);
@@ -42,7 +42,7 @@ double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t 
     }
     if (nearest > 0.0) scratch->push_back(nearest);
   }
-  return std::sqrt(upper_median_in_place(scratch));
+  return std::sqrt(upper_median_in_place(scratch->data(), scratch->size()));
 }
 
 }  // namespace detail

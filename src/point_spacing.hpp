@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "buffer.hpp"
 #include "kdtree.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
@@ -17,9 +18,9 @@ namespace detail {
 /// Neighbours a spacing query asks for: the point itself and up to 14 duplicates of it come first.
 constexpr int kSpacingNeighbours = 16;
 
-/// The upper median of *values (a value of the data; the median of an even count would be a
-/// mean), or 0 when there is none. Partially sorts *values in place (nth_element, O(n)).
-double upper_median_in_place(std::vector<double>* values);
+/// The upper median of values[0, count) (a value of the data; the median of an even count would
+/// be a mean), or 0 when there is none. Partially sorts them in place (nth_element, O(n)).
+double upper_median_in_place(double* values, std::size_t count);
 
 /// The smallest non-zero of the first min(found, kSpacingNeighbours) squared distances of a k-NN
 /// query sorted ascending, or -1 when they are all 0.
@@ -32,7 +33,7 @@ double nearest_nonzero_sq(const double* d2, int found);
 /// nearest_nonzero_sq() of a query for at least kSpacingNeighbours neighbours (compute_normals
 /// writes it): the median is then read from it, with no query of its own, to the same value.
 double median_spacing(const PointCloud& points, const KdTree& tree, std::size_t max_samples,
-                      const std::vector<double>* nearest_sq, std::vector<double>* scratch);
+                      const Buffer<double>* nearest_sq, std::vector<double>* scratch);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -127,8 +127,8 @@ struct Registration::Impl {
   detail::PreparedCloud target;
   detail::KdTree tree;
   // Plane model only: the target's points and normals.
-  std::vector<detail::PlanePoint> target_plane_points;
-  std::vector<detail::PlaneInformation> target_plane_information;  // without pair normals
+  detail::Buffer<detail::PlanePoint> target_plane_points;
+  detail::Buffer<detail::PlaneInformation> target_plane_information;  // without pair normals
   // The target's spacing, and with the plane model its surface noise and the normal fits' typical
   // reach (target_normals.hpp); internal unit.
   SurfaceFits target_fits;
@@ -250,7 +250,7 @@ Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
 // its bound (a scanner's invalid returns, thousands at its origin, made a full-resolution scan
 // pair take twice as long).
 void Registration::Impl::order(detail::PreparedCloud* cloud) {
-  detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch);
+  detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch, &pool);
   cloud->duplicates = detail::drop_duplicates(&cloud->centered);
 }
 
@@ -269,7 +269,7 @@ Status Registration::Impl::index_target() {
 // per-point statistics are freed, not kept.
 SurfaceFits Registration::Impl::fit_surface(const PointCloud& cloud, const detail::KdTree& index,
                                             std::vector<Eigen::Vector3d>* normals) const {
-  std::vector<double> spread, reach, nearest_sq;
+  detail::Buffer<double> spread, reach, nearest_sq;
   if (normals != nullptr) {
     detail::compute_normals(cloud, index, options.expert.normal_neighbours, &pool, normals, &spread,
                             &reach, &nearest_sq);
@@ -300,7 +300,7 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
   if (plane_model()) {
     // The pair normals form each pair's information in the pass: no per-target-point moments.
     auto* information = pair_normals() ? nullptr : &target_plane_information;
-    detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon,
+    detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon, &pool,
                               &target_plane_points, information);
     plane.points = &target_plane_points;
     plane.information = information;

@@ -7,6 +7,8 @@
 #include <limits>
 #include <utility>
 
+#include "thread_pool.hpp"
+
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
@@ -52,7 +54,8 @@ void permute(std::vector<std::pair<std::uint64_t, std::uint32_t>>* keys, PointCl
 
 }  // namespace
 
-void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
+void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
+                  const ThreadPool* pool) {
   assert(b == nullptr || b->size() == a->size());
   const std::size_t n = a->size();
   // The order is only an optimisation: a cloud too large for the 31-bit indices keeps its own.
@@ -75,14 +78,30 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch) {
     keys.reserve(n);
   }
   keys.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
+    const std::size_t i = static_cast<std::size_t>(j);
     const Eigen::Vector3d q = (((*a)[i] - lo) / extent * kCells).array().floor().min(kCells - 1.0);
     const std::uint64_t code = spread_bits(static_cast<std::uint64_t>(q.x())) |
                                spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
                                spread_bits(static_cast<std::uint64_t>(q.z())) << 2;
     keys[i] = {code, static_cast<std::uint32_t>(i)};
+  });
+  // (code, index) pairs are distinct: a total order, which any sort gives alike. With more than
+  // one thread, the halves below and above the median key are sorted at once (nth_element
+  // costs a fraction of the sort, and needs no memory).
+  if (pool != nullptr && pool->threads() > 1) {
+    const auto mid = keys.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(keys.begin(), mid, keys.end());
+    parallel_for(pool, 2, [&](std::ptrdiff_t half) {
+      if (half == 0) {
+        std::sort(keys.begin(), mid);
+      } else {
+        std::sort(mid, keys.end());
+      }
+    });
+  } else {
+    std::sort(keys.begin(), keys.end());
   }
-  std::sort(keys.begin(), keys.end());  // (code, index) pairs are distinct: a total order
   // Within a cell (equal codes), by coordinates, then index: exact duplicates become adjacent
   // (drop_duplicates), and the order does not depend on the input's. Runs are short but for
   // repeated points (a scanner's invalid returns at its origin) or a far outlier that widens the

@@ -24,6 +24,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+class ThreadPool;  // thread_pool.hpp
+
 /// The buffer of spatial_sort (16 B per point), kept between calls so that a cloud of the same
 /// size reuses it.
 struct SpatialSortScratch {
@@ -35,8 +37,10 @@ struct SpatialSortScratch {
 /// longest side, ties (one cell) by x, then y, then z, then index: equal points end up adjacent,
 /// in their input order. Points must be finite; a cloud of fewer than 2 or 2^31 or more points,
 /// of identical points or whose extent overflows a double is left as it is. Allocation-free once
-/// the scratch is as large.
-void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch);
+/// the scratch is as large. Parallel on the pool's threads (null: the calling thread); the order
+/// does not depend on their number.
+void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
+                  const ThreadPool* pool = nullptr);
 
 /// Removes the exact duplicates of a cloud in spatial_sort()'s order, where they are adjacent:
 /// of each run of equal points (==, so -0 equals +0) the first is kept. Returns how many were

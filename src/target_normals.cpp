@@ -45,11 +45,12 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
                      const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
-                     std::vector<double>* spread, std::vector<double>* reach,
-                     std::vector<double>* nearest_sq) {
-  normals->assign(points.size(), Eigen::Vector3d::Zero());
-  if (spread != nullptr) spread->assign(points.size(), -1.0);
-  if (reach != nullptr) reach->assign(points.size(), -1.0);
+                     Buffer<double>* spread, Buffer<double>* reach, Buffer<double>* nearest_sq) {
+  // Sized, not filled: the loop writes every entry (each point is in the leaf order once), so
+  // that each thread touches its own part of the arrays first (buffer.hpp).
+  normals->resize(points.size());
+  if (spread != nullptr) spread->resize(points.size());
+  if (reach != nullptr) reach->resize(points.size());
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   // Fewer neighbours than a spacing query asks for may miss the nearest non-duplicate: none kept.
@@ -57,10 +58,10 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
     nearest_sq->clear();
     nearest_sq = nullptr;
   }
-  if (nearest_sq != nullptr) nearest_sq->assign(points.size(), -1.0);
+  if (nearest_sq != nullptr) nearest_sq->resize(points.size());
   const double unbounded = std::numeric_limits<double>::max();
   // Points in the tree's leaf order: consecutive queries reach the same first leaf.
-  const std::vector<std::uint32_t>& order = tree.leaf_order();
+  const Buffer<std::uint32_t>& order = tree.leaf_order();
   assert(order.size() == points.size());
   // Blocks of kSeedBlock points in that order, each visited in order by one thread, so that a
   // query can be seeded by its block's previous one (header). The seed changes which cells the
@@ -84,17 +85,17 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
       const NormalFit fit = fit_normal(points, idx, found);
       (*normals)[i] = fit.normal;
       if (spread != nullptr) (*spread)[i] = fit.spread;
-      if (reach != nullptr && found > 0) (*reach)[i] = std::sqrt(d2[found - 1]);
+      if (reach != nullptr) (*reach)[i] = found > 0 ? std::sqrt(d2[found - 1]) : -1.0;
       if (nearest_sq != nullptr) (*nearest_sq)[i] = nearest_nonzero_sq(d2, found);
     }
   });
 }
 
-double upper_median(std::vector<double>* values) {
+double upper_median(Buffer<double>* values) {
   values->erase(
       std::remove_if(values->begin(), values->end(), [](double v) { return !(v >= 0.0); }),
       values->end());
-  return upper_median_in_place(values);
+  return upper_median_in_place(values->data(), values->size());
 }
 
 }  // namespace detail

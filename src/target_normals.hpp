@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "buffer.hpp"
 #include "kdtree.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
@@ -47,13 +48,13 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// neighbours nearest_sq is left empty (they may not reach past a point's duplicates).
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
                      const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
-                     std::vector<double>* spread = nullptr, std::vector<double>* reach = nullptr,
-                     std::vector<double>* nearest_sq = nullptr);
+                     Buffer<double>* spread = nullptr, Buffer<double>* reach = nullptr,
+                     Buffer<double>* nearest_sq = nullptr);
 
 /// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the
 /// spreads written by compute_normals, the cloud's surface noise; of the reaches, its typical
 /// reach. Drops the values < 0 from *values and partially sorts the rest in place (no copy).
-double upper_median(std::vector<double>* values);
+double upper_median(Buffer<double>* values);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

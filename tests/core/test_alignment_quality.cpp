@@ -28,8 +28,8 @@ TEST_CASE(
   REQUIRE(tree.build(target).ok());
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(target, tree, 20, nullptr, &normals);
-  std::vector<ppcr::detail::PlanePoint> planes;
-  ppcr::detail::pack_plane_points(target, normals, 0.05, &planes);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> planes;
+  ppcr::detail::pack_plane_points(target, normals, 0.05, nullptr, &planes);
   const PointCloud source = {
       {0.15, 0.15, 0.005},  // 5 mm above the plane, 5 mm from the grid point below it
       {0.32, 0.15, 0.0},    // on the plane's extension, 3 cm beyond its edge
@@ -63,7 +63,8 @@ struct PlainSums {
 };
 PlainSums plain_nearest(const ppcr::detail::KdTree& tree, const PointCloud& points,
                         const Eigen::Isometry3d& T, double radius_sq, double near_sq,
-                        double close_sq, const std::vector<ppcr::detail::PlanePoint>* planes) {
+                        double close_sq,
+                        const ppcr::detail::Buffer<ppcr::detail::PlanePoint>* planes) {
   PlainSums s;
   for (const Eigen::Vector3d& x : points) {
     const Eigen::Vector3d p = T * x;
@@ -99,8 +100,8 @@ TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts,
   REQUIRE(source_tree.build(source).ok());
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(target, target_tree, 8, nullptr, &normals);
-  std::vector<ppcr::detail::PlanePoint> planes;
-  ppcr::detail::pack_plane_points(target, normals, 0.05, &planes);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> planes;
+  ppcr::detail::pack_plane_points(target, normals, 0.05, nullptr, &planes);
   const double radius = 3.0, near = 2.0, close = 1.2;
   for (const Eigen::Isometry3d& T :
        {Eigen::Isometry3d(Eigen::Isometry3d::Identity()),

@@ -3,6 +3,7 @@
 // differences of the error through ppcr::se3::exp (so the analytic form is not trusted), and for
 // independence of the thread count.
 #include <catch2/catch.hpp>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "normal_equations.hpp"
 #include "pair_normal_reference.hpp"
 #include "ppcr/se3.hpp"
+#include "thread_pool.hpp"
 #include "weights.hpp"
 
 using core_test::Rng;
@@ -179,7 +181,7 @@ Eigen::Matrix3d pair_rotation() {
 struct PackedPlane {
   PackedPlane(const Problem& pb, std::vector<Eigen::Vector3d> target_normals, double epsilon)
       : normals(std::move(target_normals)) {
-    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, &points, &information);
+    ppcr::detail::pack_plane_points(pb.target, normals, epsilon, nullptr, &points, &information);
     model.points = &points;
     model.information = &information;
     model.epsilon = epsilon;
@@ -189,8 +191,8 @@ struct PackedPlane {
   PackedPlane(const PackedPlane&) = delete;
   PackedPlane& operator=(const PackedPlane&) = delete;
   std::vector<Eigen::Vector3d> normals;
-  std::vector<ppcr::detail::PlanePoint> points;
-  std::vector<ppcr::detail::PlaneInformation> information;
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+  ppcr::detail::Buffer<ppcr::detail::PlaneInformation> information;
   ppcr::detail::PlaneModel model;
 };
 
@@ -678,8 +680,8 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a
       ref += w[j * k + m] * J.transpose() * nnT * J;
     }
   }
-  std::vector<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, &points);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(pb.target, normals, 0.05, nullptr, &points);
   const Matrix6d got =
       NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(), points);
   CHECK(rel_diff(got, ref) < 1e-12);
@@ -754,6 +756,18 @@ TEST_CASE("pack_plane_points holds Omega = a I + n n^T and b = Omega y", "[norma
       // still catches any misplaced lane.
       CHECK((Eigen::Vector3d(o.b_xy[0], o.b_xy[1], q.b_z) - b).cwiseAbs().maxCoeff() <
             1e-12 * (b.norm() + pb.target[i].norm()));
+    }
+    // Packed on two threads: the same records, to the bit.
+    const ppcr::detail::ThreadPool pool(2);
+    ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+    ppcr::detail::Buffer<ppcr::detail::PlaneInformation> information;
+    ppcr::detail::pack_plane_points(pb.target, packed.normals, epsilon, &pool, &points,
+                                    &information);
+    REQUIRE(points.size() == pb.target.size());
+    REQUIRE(information.size() == pb.target.size());
+    for (std::size_t i = 0; i < pb.target.size(); ++i) {
+      CHECK(std::memcmp(&points[i], &packed.points[i], sizeof(points[i])) == 0);
+      CHECK(std::memcmp(&information[i], &packed.information[i], sizeof(information[i])) == 0);
     }
   }
 }

@@ -18,7 +18,8 @@ using core_test::Rng;
 struct Case {
   ppcr::detail::AssociationTable assoc;
   std::vector<Eigen::Vector3d> target_normals, source_normals;
-  std::vector<ppcr::detail::PlanePoint> target_points;  // target_normals packed (at the origin)
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint>
+      target_points;  // target_normals packed (at the origin)
   Eigen::Matrix3d R;
 };
 
@@ -43,7 +44,7 @@ Case make_case(std::uint64_t seed) {
     c.target_normals[i] = i % 7 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);
   }
   ppcr::detail::pack_plane_points(ppcr::PointCloud(n_target, Eigen::Vector3d::Zero()),
-                                  c.target_normals, 0.05, &c.target_points);
+                                  c.target_normals, 0.05, nullptr, &c.target_points);
   c.source_normals.resize(n_source);
   for (std::size_t j = 0; j < n_source; ++j) {
     c.source_normals[j] = j % 5 == 0 ? Eigen::Vector3d::Zero() : core_test::random_unit_vector(rng);

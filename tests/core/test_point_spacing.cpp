@@ -58,7 +58,7 @@ TEST_CASE("median_spacing from the normal fits' neighbours equals its own querie
     for (int k : {8, ppcr::detail::kSpacingNeighbours, 20}) {
       INFO(points.size() << " points, fits of " << k);
       std::vector<Eigen::Vector3d> normals;
-      std::vector<double> nearest_sq(3, 1.0);
+      ppcr::detail::Buffer<double> nearest_sq(3, 1.0);
       ppcr::detail::compute_normals(points, tree, k, core_test::pool(2), &normals, nullptr, nullptr,
                                     &nearest_sq);
       CHECK(nearest_sq.size() == (k < ppcr::detail::kSpacingNeighbours ? 0 : points.size()));

@@ -1252,7 +1252,7 @@ TEST_CASE("the noise floor holds the EM scale at a multiple of the target's surf
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(sc.target).ok());
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread;
+  ppcr::detail::Buffer<double> spread;
   ppcr::detail::compute_normals(sc.target, tree, o.expert.normal_neighbours, nullptr, &normals,
                                 &spread);
   const double noise = ppcr::detail::upper_median(&spread);

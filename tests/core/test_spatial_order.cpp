@@ -8,6 +8,7 @@
 
 #include "core_test_util.hpp"
 #include "spatial_order.hpp"
+#include "thread_pool.hpp"
 
 using ppcr::PointCloud;
 using ppcr::detail::spatial_sort;
@@ -38,12 +39,14 @@ PointCloud index_cloud(std::size_t n) {
 }
 
 // Checks that spatial_sort(original) is a permutation ordered by reference_code, ties by x, y, z,
-// then index, that moves a second cloud alike.
-void check_sorted(const PointCloud& original) {
+// then index, that moves a second cloud alike, on `threads` threads (the parallel sort splits the
+// keys at their median: every key must still land in its place).
+void check_sorted(const PointCloud& original, int threads) {
   PointCloud a = original;
   PointCloud b = index_cloud(a.size());
   SpatialSortScratch scratch;
-  spatial_sort(&a, &b, &scratch);
+  const ppcr::detail::ThreadPool pool(threads);
+  spatial_sort(&a, &b, &scratch, &pool);
   Eigen::Vector3d lo = original[0], hi = original[0];
   for (const Eigen::Vector3d& p : original) {
     lo = lo.cwiseMin(p);
@@ -87,13 +90,15 @@ TEST_CASE("spatial_sort orders by the Morton code, ties by coordinates, and move
     a[2400 + i] = a[2200 + i] - Eigen::Vector3d(1e-9 * (i % 3), 1e-9 * (i % 2), 1e-9);
   }
   for (std::size_t i = 0; i < a.size(); i += 4) a[i].z() = 0.0;
-  check_sorted(a);
+  check_sorted(a, 1);
+  check_sorted(a, 2);
   // Extents of ~7e-305 and ~7e300 (2^21 / extent would overflow for the first: below ~1.2e-302).
   for (double scale : {1e-305, 1e300}) {
     PointCloud scaled = a;
     for (Eigen::Vector3d& p : scaled) p *= scale;
     INFO("scale " << scale);
-    check_sorted(scaled);
+    check_sorted(scaled, 1);
+    check_sorted(scaled, 2);
   }
 }
 

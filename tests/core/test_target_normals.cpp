@@ -96,7 +96,7 @@ TEST_CASE("normals and spreads are identical with 1 and 2 threads", "[target_nor
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(scene).ok());
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread[2];
+  ppcr::detail::Buffer<double> spread[2];
   for (int threads : {1, 2}) {
     ppcr::detail::compute_normals(scene, tree, 20, core_test::pool(threads), &normals,
                                   &spread[threads - 1]);
@@ -123,7 +123,7 @@ TEST_CASE(
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(plane).ok());
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread, reach;
+  ppcr::detail::Buffer<double> spread, reach;
   ppcr::detail::compute_normals(plane, tree, k, core_test::pool(2), &normals, &spread, &reach);
   REQUIRE(spread.size() == plane.size());
   REQUIRE(reach.size() == plane.size());
@@ -148,8 +148,9 @@ TEST_CASE(
 
 TEST_CASE("upper_median: the upper median of the values >= 0 (spreads of points with a normal)",
           "[target_normals]") {
-  auto upper_median = [](std::vector<double> values) {  // in place on a copy
-    return ppcr::detail::upper_median(&values);
+  auto upper_median = [](const std::vector<double>& values) {  // in place on a copy
+    ppcr::detail::Buffer<double> copy(values.begin(), values.end());
+    return ppcr::detail::upper_median(&copy);
   };
   CHECK(upper_median({}) == 0.0);
   CHECK(upper_median({-1.0, -1.0}) == 0.0);
@@ -161,9 +162,9 @@ TEST_CASE("upper_median: the upper median of the values >= 0 (spreads of points 
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(four).ok());
   std::vector<Eigen::Vector3d> normals;
-  std::vector<double> spread;
+  ppcr::detail::Buffer<double> spread;
   ppcr::detail::compute_normals(four, tree, 20, nullptr, &normals, &spread);
-  CHECK(spread == std::vector<double>(4, -1.0));
+  CHECK(spread == ppcr::detail::Buffer<double>(4, -1.0));
 }
 
 TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounded queries",
@@ -186,7 +187,7 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
     for (int k : {5, 20, 64}) {
       for (int threads : {1, 2}) {
         std::vector<Eigen::Vector3d> normals;
-        std::vector<double> spread;
+        ppcr::detail::Buffer<double> spread;
         ppcr::detail::compute_normals(*cloud, tree, k, core_test::pool(threads), &normals, &spread);
         std::size_t mismatches = 0, with_normal = 0;
         std::uint32_t idx[64];
@@ -208,7 +209,7 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
       // radius_knn: the fits above would pass with a too tight bound, which seeded_radius_knn's
       // repeat mends. That repeat is checked apart: a seed of 0 (too tight for k >= 2 distinct
       // points) must be repeated and give the unbounded list.
-      const std::vector<std::uint32_t>& order = tree.leaf_order();
+      const auto& order = tree.leaf_order();
       const double unbounded = std::numeric_limits<double>::max();
       std::uint32_t prev[64], idx[64], ref[64];
       double d2[64];
