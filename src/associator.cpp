@@ -46,6 +46,14 @@ void Associator::find(bool coarse, const Eigen::Isometry3d& T) {
   }
 }
 
+bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start) {
+  find(coarse, *T_start);
+  if (table_.pairs > 0 || T_start->matrix() == T.matrix()) return false;
+  *T_start = T;
+  find(coarse, T);
+  return true;
+}
+
 void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   const PointCloud& cloud = coarse ? coarse_points_ : *source_;
   // From the coarse level to every point: the rows grow, the coarse points keeping theirs.

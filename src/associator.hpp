@@ -52,6 +52,10 @@ class Associator {
   /// miss a small overlap that others reach) and every point is associated instead.
   /// Allocation-free.
   void find(bool coarse, const Eigen::Isometry3d& T);
+  /// find() at *T_start; when that finds no pair and *T_start is not T, find() at T, with
+  /// *T_start set to T (a start extrapolated beyond every target point falls back to the last
+  /// solved pose). Returns whether it fell back. Allocation-free.
+  bool find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start);
 
   bool has_coarse_level() const { return use_coarse_; }
   /// The table holds the coarse level's rows.

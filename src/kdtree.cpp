@@ -1,24 +1,28 @@
-// kdtree.cpp - the k-d tree: built by nanoflann (kdtree_nanoflann.hpp), searched on a flat copy.
+// kdtree.cpp - the k-d tree: nanoflann's tree, built and searched on a flat layout of our own.
 #include "kdtree.hpp"
 
 #include <algorithm>
+#include <array>
 #include <new>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "kdtree_nanoflann.hpp"
+#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 namespace {
 
-// nanoflann's tree, flattened for the search: nodes in depth-first order (a split node's first
-// child follows it; `second` indexes the other), and the points copied in the tree's leaf order,
-// x, y and z apart, so that a leaf scans contiguous coordinates (its distances are vectorisable)
-// instead of gathering through nanoflann's index array. The search below is nanoflann's searchLevel
-// (same bounds, same visiting order, hence the same result) on this layout.
+// nanoflann's tree in a flat layout: nodes in depth-first order (a split node's first child
+// follows it; `second` indexes the other), and the points copied in the tree's leaf order, x, y
+// and z apart, so that a leaf scans contiguous coordinates (its distances are vectorisable)
+// instead of gathering through an index array. TreeBuilder builds it as nanoflann 1.4 builds its
+// own (the same splits, hence the same tree: tests/core/test_kdtree.cpp), the two halves below
+// the root at once; the search below is nanoflann's searchLevel (same bounds, same visiting
+// order, hence the same result) on this layout.
 struct FlatNode {
   // Split node: the first child's upper and the second child's lower extent along `axis`
   // (nanoflann's divlow, divhigh).
@@ -34,6 +38,157 @@ constexpr std::uint32_t kLeaf = 0x80000000u;
 constexpr std::uint32_t kChunk = 32;
 static_assert(kLeafMaxSize <= kChunk, "a leaf of nanoflann's tree is scanned in one chunk");
 
+// One axis of a bounding box.
+struct Interval {
+  double low, high;
+};
+using Box = std::array<Interval, 3>;
+
+// nanoflann 1.4's build (KDTreeBaseClass::divideTree, middleSplit_, planeSplit), on the flat
+// layout: the tree over points[index[left..right)), reordering that range of the index array in
+// place. Two ranges that do not overlap can be built at once.
+class TreeBuilder {
+ public:
+  TreeBuilder(const PointCloud& points, std::uint32_t* index) : points_(points), index_(index) {}
+
+  struct Split {
+    std::size_t size;  // points in the first child
+    std::uint32_t axis;
+    double cut;  // along axis: the first child's upper bound, the second's lower
+  };
+
+  // divideTree: appends the subtree over [left, right) to *nodes, depth first, `second` counted
+  // from the vector's start; *box (the cell, on entry) becomes the points' bounding box.
+  void build(std::size_t left, std::size_t right, Box* box, Buffer<FlatNode>* nodes) const {
+    const std::size_t me = nodes->size();
+    nodes->push_back(FlatNode{0.0, 0.0, 0, 0});
+    if (right - left <= kLeafMaxSize) {
+      (*nodes)[me].second = static_cast<std::uint32_t>(left);
+      (*nodes)[me].axis = kLeaf | static_cast<std::uint32_t>(right);
+      leaf_box(left, right, box);
+      return;
+    }
+    const Split s = split(left, right - left, *box);
+    Box first = *box, second = *box;
+    first[s.axis].high = s.cut;
+    second[s.axis].low = s.cut;
+    build(left, left + s.size, &first, nodes);
+    const std::size_t other = nodes->size();
+    build(left + s.size, right, &second, nodes);
+    join(s.axis, first, second, static_cast<std::uint32_t>(other), &(*nodes)[me], box);
+  }
+
+  // middleSplit_: among the axes whose cell side is within 1e-5 of the longest, the one along
+  // which the points spread most (the first of equals); cut at the cell's middle, clamped to the
+  // points' range; the points partitioned at the cut (planeSplit), the first child taking those
+  // below it, then as many equal to it as balance the two.
+  Split split(std::size_t left, std::size_t count, const Box& box) const {
+    const double eps = 0.00001;
+    double max_span = box[0].high - box[0].low;
+    for (std::uint32_t a = 1; a < 3; ++a) max_span = std::max(max_span, box[a].high - box[a].low);
+    double max_spread = -1.0;
+    std::uint32_t axis = 0;
+    for (std::uint32_t a = 0; a < 3; ++a) {
+      if (!(box[a].high - box[a].low > (1 - eps) * max_span)) continue;
+      double lo, hi;
+      min_max(left, count, a, &lo, &hi);
+      if (hi - lo > max_spread) {
+        axis = a;
+        max_spread = hi - lo;
+      }
+    }
+    const double middle = (box[axis].low + box[axis].high) / 2;
+    double lo, hi;
+    min_max(left, count, axis, &lo, &hi);
+    const double cut = middle < lo ? lo : (middle > hi ? hi : middle);
+    std::size_t below, not_above;
+    plane_split(left, count, axis, cut, &below, &not_above);
+    const std::size_t half = count / 2;
+    return Split{below > half ? below : (not_above < half ? not_above : half), axis, cut};
+  }
+
+  // A split node's bounds along its axis (the children's boxes, now their points' bounding
+  // boxes: nanoflann's divlow, divhigh), and its box, the union of theirs.
+  static void join(std::uint32_t axis, const Box& first, const Box& second, std::uint32_t other,
+                   FlatNode* node, Box* box) {
+    *node = FlatNode{first[axis].high, second[axis].low, other, axis};
+    for (std::size_t a = 0; a < 3; ++a) {
+      (*box)[a].low = std::min(first[a].low, second[a].low);
+      (*box)[a].high = std::max(first[a].high, second[a].high);
+    }
+  }
+
+ private:
+  double coordinate(std::size_t k, std::uint32_t axis) const { return points_[index_[k]][axis]; }
+
+  void leaf_box(std::size_t left, std::size_t right, Box* box) const {
+    for (std::uint32_t a = 0; a < 3; ++a) (*box)[a].low = (*box)[a].high = coordinate(left, a);
+    for (std::size_t k = left + 1; k < right; ++k) {
+      for (std::uint32_t a = 0; a < 3; ++a) {
+        const double v = coordinate(k, a);
+        if ((*box)[a].low > v) (*box)[a].low = v;
+        if ((*box)[a].high < v) (*box)[a].high = v;
+      }
+    }
+  }
+
+  // computeMinMax.
+  void min_max(std::size_t left, std::size_t count, std::uint32_t axis, double* lo,
+               double* hi) const {
+    *lo = *hi = coordinate(left, axis);
+    for (std::size_t k = 1; k < count; ++k) {
+      const double v = coordinate(left + k, axis);
+      if (v < *lo) *lo = v;
+      if (v > *hi) *hi = v;
+    }
+  }
+
+  // planeSplit: reorders index[left..left + count) into the points below cut, [0, *below), equal
+  // to it, [*below, *not_above), and above it, swapping from both ends as nanoflann does (the
+  // order within each part is its).
+  void plane_split(std::size_t left, std::size_t count, std::uint32_t axis, double cut,
+                   std::size_t* below, std::size_t* not_above) const {
+    std::uint32_t* ind = index_ + left;
+    auto at = [&](std::size_t k) { return points_[ind[k]][axis]; };
+    std::size_t l = 0, r = count - 1;
+    for (;;) {
+      while (l <= r && at(l) < cut) ++l;
+      while (r != 0 && l <= r && at(r) >= cut) --r;
+      if (l > r || r == 0) break;
+      std::swap(ind[l], ind[r]);
+      ++l;
+      --r;
+    }
+    *below = l;
+    r = count - 1;
+    for (;;) {
+      while (l <= r && at(l) <= cut) ++l;
+      while (r != 0 && l <= r && at(r) > cut) --r;
+      if (l > r || r == 0) break;
+      std::swap(ind[l], ind[r]);
+      ++l;
+      --r;
+    }
+    *not_above = l;
+  }
+
+  const PointCloud& points_;
+  std::uint32_t* index_;
+};
+
+// The points' bounding box (nanoflann's computeBoundingBox).
+Box bounding_box(const PointCloud& points) {
+  Box box;
+  for (std::size_t a = 0; a < 3; ++a) box[a].low = box[a].high = points[0][a];
+  for (const Eigen::Vector3d& p : points) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (p[a] < box[a].low) box[a].low = p[a];
+      if (p[a] > box[a].high) box[a].high = p[a];
+    }
+  }
+  return box;
+}
+
 }  // namespace
 
 struct KdTree::Impl {
@@ -42,31 +197,6 @@ struct KdTree::Impl {
   Buffer<double> xyz;
   Buffer<std::uint32_t> index;                             // its index in the cloud
   double box_low[3] = {0, 0, 0}, box_high[3] = {0, 0, 0};  // the cloud's bounding box
-
-  // Nodes of nanoflann's (sub)tree at node: flatten's count, so that `nodes` is sized once.
-  template <class Node>
-  static std::size_t count_nodes(const Node* node) {
-    if (node->child1 == nullptr && node->child2 == nullptr) return 1;
-    return 1 + count_nodes(node->child1) + count_nodes(node->child2);
-  }
-
-  template <class Node>
-  std::uint32_t flatten(const Node* node) {
-    const std::uint32_t me = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back(FlatNode{0.0, 0.0, 0, 0});
-    if (node->child1 == nullptr && node->child2 == nullptr) {
-      nodes[me].second = static_cast<std::uint32_t>(node->node_type.lr.left);
-      nodes[me].axis = kLeaf | static_cast<std::uint32_t>(node->node_type.lr.right);
-      return me;
-    }
-    nodes[me].low = node->node_type.sub.divlow;
-    nodes[me].high = node->node_type.sub.divhigh;
-    nodes[me].axis = static_cast<std::uint32_t>(node->node_type.sub.divfeat);
-    flatten(node->child1);
-    const std::uint32_t second = flatten(node->child2);
-    nodes[me].second = second;
-    return me;
-  }
 
   // nanoflann's searchLevel: min_dist_sq is the squared distance from the query to the node's
   // cell as far as the splits above tell (per-axis terms in axis_dist_sq), and a subtree is
@@ -136,7 +266,7 @@ KdTree::~KdTree() = default;
 KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
-Status KdTree::build(const PointCloud& points) {
+Status KdTree::build(const PointCloud& points, const ThreadPool* pool) {
   // Leaf ends carry the kLeaf bit, so point counts (and node indices, < 2 x points) stay below it.
   if (points.size() >= kLeaf) {
     return Status(StatusCode::kInvalidArgument,
@@ -147,25 +277,47 @@ Status KdTree::build(const PointCloud& points) {
   m = Impl();
   if (points.empty()) return Status::Ok();
   try {
-    // nanoflann builds the tree (leaves of at most kLeafMaxSize points); its nodes are then
-    // copied into the flat layout and its own structure is freed.
-    const CloudAdaptor adaptor{&points};
-    const Tree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafMaxSize));
-    const auto& box = tree_bounding_box(tree);
-    for (int a = 0; a < 3; ++a) {
-      m.box_low[a] = box[static_cast<std::size_t>(a)].low;
-      m.box_high[a] = box[static_cast<std::size_t>(a)].high;
+    const std::size_t n = points.size();
+    m.index.resize(n);
+    for (std::size_t i = 0; i < n; ++i) m.index[i] = static_cast<std::uint32_t>(i);
+    Box box = bounding_box(points);
+    const TreeBuilder builder(points, m.index.data());
+    if (pool == nullptr || pool->threads() < 2 || n <= kLeafMaxSize) {
+      builder.build(0, n, &box, &m.nodes);
+      m.nodes.shrink_to_fit();  // grown by doubling
+    } else {
+      // The root's split, then its two subtrees at once, each into its own nodes, which follow
+      // the root in depth-first order: the first child's, then the second's (their `second`
+      // indices shifted by where they land).
+      const TreeBuilder::Split s = builder.split(0, n, box);
+      Box child_box[2] = {box, box};
+      child_box[0][s.axis].high = s.cut;
+      child_box[1][s.axis].low = s.cut;
+      Buffer<FlatNode> child_nodes[2];
+      parallel_for(pool, 2, [&](std::ptrdiff_t c) {
+        builder.build(c == 0 ? 0 : s.size, c == 0 ? s.size : n, &child_box[c], &child_nodes[c]);
+      });
+      const std::uint32_t first_size = static_cast<std::uint32_t>(child_nodes[0].size());
+      m.nodes.resize(1 + child_nodes[0].size() + child_nodes[1].size());
+      TreeBuilder::join(s.axis, child_box[0], child_box[1], 1 + first_size, &m.nodes[0], &box);
+      for (std::uint32_t c = 0, offset = 1; c < 2; offset += first_size, ++c) {
+        parallel_for(pool, static_cast<std::ptrdiff_t>(child_nodes[c].size()),
+                     [&](std::ptrdiff_t i) {
+                       FlatNode node = child_nodes[c][static_cast<std::size_t>(i)];
+                       if (!(node.axis & kLeaf)) node.second += offset;
+                       m.nodes[offset + static_cast<std::size_t>(i)] = node;
+                     });
+      }
     }
-    const std::vector<std::uint32_t>& leaf_order = tree_leaf_order(tree);
-    m.index.assign(leaf_order.begin(), leaf_order.end());
-    const std::size_t n = m.index.size();
+    for (std::size_t a = 0; a < 3; ++a) {
+      m.box_low[a] = box[a].low;
+      m.box_high[a] = box[a].high;
+    }
     m.xyz.resize(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a)
-        m.xyz[static_cast<std::size_t>(a) * n + i] = points[m.index[i]][a];
-    }
-    m.nodes.reserve(Impl::count_nodes(tree_root(tree)));  // one allocation, no growth
-    m.flatten(tree_root(tree));
+    parallel_for(pool, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
+      const std::size_t i = static_cast<std::size_t>(j);
+      for (std::size_t a = 0; a < 3; ++a) m.xyz[a * n + i] = points[m.index[i]][a];
+    });
   } catch (const std::bad_alloc&) {
     m = Impl();
     return Status(StatusCode::kInvalidArgument, "out of memory building the k-d tree over " +

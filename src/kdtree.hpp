@@ -1,10 +1,10 @@
 // kdtree.hpp - a k-d tree over a cloud (the target; the source too for its normals), the
 // radius-limited k-nearest-neighbour query, and that query seeded by points already known.
 //
-// nanoflann (1.4 to 1.7) stays behind a pimpl (only kdtree.cpp and kdtree_nanoflann.hpp include
-// it): nanoflann builds the tree, and the search runs nanoflann's algorithm on a flat copy of it
-// (kdtree.cpp), with the same result. Distances are SQUARED, as nanoflann's L2 metric: every
-// distance here is squared and says so.
+// nanoflann's tree (1.4's splits) and search, on a flat layout of our own (kdtree.cpp), with the
+// same tree and results as nanoflann's; nanoflann stays behind a pimpl (only kdtree.cpp and
+// kdtree_nanoflann.hpp include it, for its result set's interface). Distances are SQUARED, as
+// nanoflann's L2 metric: every distance here is squared and says so.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +19,8 @@
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
+
+class ThreadPool;  // thread_pool.hpp
 
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
 /// (neighbour_cache.cpp) call it, and the k-d tree's leaves (kdtree.cpp) call its form that takes
@@ -45,9 +47,9 @@ class KdTree {
   KdTree& operator=(KdTree&&) noexcept;
 
   /// Indexes a copy of points (in the tree's leaf order: 24 B per point, plus a 4 B index and
-  /// about 4 B of nodes, 3.8 B on the lidar target; nanoflann's own tree, a 4 B index and 40 B
-  /// nodes, exists during the build only). At most 2^31 - 1 points.
-  Status build(const PointCloud& points);
+  /// about 4 B of nodes, 3.8 B on the lidar target). At most 2^31 - 1 points. With a pool of two
+  /// or more threads, the root's two subtrees are built at once; the tree is the same.
+  Status build(const PointCloud& points, const ThreadPool* pool = nullptr);
 
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq
   /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to

@@ -1,8 +1,9 @@
 // kdtree_nanoflann.hpp - nanoflann's side of the k-d tree (private): the dataset adaptor, the
 // radius-bounded kNN result set (nanoflann 1.4 has none), the tree type and the few tree members
-// kdtree.cpp reads, under the names of the nanoflann at hand. kdtree.cpp builds with it;
-// tests/core/test_kdtree.cpp runs nanoflann's own search with it, the reference the flat search
-// must equal. Built and tested with nanoflann 1.4.3 (Debian 12) and 1.7.1 (Debian 13).
+// the tests read, under the names of the nanoflann at hand. kdtree.cpp takes the leaf size and
+// the result set from it and builds its own tree; tests/core/test_kdtree.cpp builds nanoflann's
+// own tree and runs its search with it, the references the flat tree and search must equal.
+// Built and tested with nanoflann 1.4.3 (Debian 12) and 1.7.1 (Debian 13).
 #pragma once
 
 #include <cmath>

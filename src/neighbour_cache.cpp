@@ -249,8 +249,9 @@ void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
   // The set certificate, |p - p'| < rho_j, compared squared (rho_j > 0 is stored squared; the
   // margin subtracted from rho_j when it was stored covers the rounding of either side).
   Eigen::Vector3d then;
-  if (cache.bound[j] >= 0.0 && position_at(c, cache.ranked_call[j], j, &then) &&
-      (s.p - then).squaredNorm() < cache.set_radius_sq[j]) {
+  const bool listed = cache.bound[j] >= 0.0;
+  const bool ranked_kept = listed && position_at(c, cache.ranked_call[j], j, &then);
+  if (ranked_kept && (s.p - then).squaredNorm() < cache.set_radius_sq[j]) {
     resort(c.target, s.p, c.table->count[j], s.out_idx, s.out_d);
     cache.path[j] = NeighbourCache::kResorted;
     return;
@@ -261,8 +262,11 @@ void associate_point(const CallContext& c, std::size_t j, std::ptrdiff_t prev) {
   s.margin = 1e-9 * c.radius + 1e-12 * s.p.cwiseAbs().sum();
   // A point that moved more than kFastMove x B_j since its last query is likely to move past a
   // new list's margin too: it is queried for its k + 1 nearest only (a cheaper query).
+  // q_j is p' when the point was re-ranked by the call that queried it (requery ranks what it
+  // finds): then already holds it.
   bool fast = false;
-  if (cache.bound[j] >= 0.0 && position_at(c, cache.query_call[j], j, &then)) {
+  if (listed && ((ranked_kept && cache.query_call[j] == cache.ranked_call[j]) ||
+                 position_at(c, cache.query_call[j], j, &then))) {
     const double delta = (s.p - then).norm();
     fast = delta > NeighbourCache::kFastMove * cache.bound[j];
     if (certified_rerank(c, &s, delta)) return;

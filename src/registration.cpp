@@ -238,7 +238,8 @@ Status Registration::Impl::take_source() {
 // Prepares `cloud` as the target: filtered, centred in its own unit, ordered (order()), then
 // index_target().
 Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
-  const Status s = detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &target);
+  const Status s =
+      detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &pool, &target);
   if (!s.ok()) return s;
   order(&target);
   return index_target();
@@ -256,7 +257,7 @@ void Registration::Impl::order(detail::PreparedCloud* cloud) {
 
 // The prepared, Z-ordered target's tree and (plane model) normal fits, then adopt_target().
 Status Registration::Impl::index_target() {
-  const Status s = tree.build(target.centered);
+  const Status s = tree.build(target.centered, &pool);
   if (!s.ok()) return s;
   std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
   return adopt_target(fit_surface(target.centered, tree, plane_model() ? &normals : nullptr),
@@ -327,8 +328,8 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
-  Status s =
-      detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
+  Status s = detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source",
+                                   &pool, &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   order(&source);
@@ -341,7 +342,7 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_spacing = target.unit * target_fits.spacing;
   result->radius = radius;
   if (pair_normals()) {
-    s = source_tree.build(source.centered);
+    s = source_tree.build(source.centered, &pool);
     if (!s.ok()) return s;
     // With the fits' medians, so that set_target_to_source() can make this source the target.
     source_fits = fit_surface(source.centered, source_tree, &source_normals);
@@ -419,12 +420,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
 const detail::AssociationTable& Registration::Impl::associate(Run* run, bool coarse,
                                                               const Eigen::Isometry3d& T,
                                                               Eigen::Isometry3d* T_start) {
-  associator.find(coarse, *T_start);
-  if (associator.table().pairs == 0 && T_start->matrix() != T.matrix()) {
-    run->acceleration.reset();
-    *T_start = T;
-    associator.find(coarse, T);
-  }
+  if (associator.find_from(coarse, T, T_start)) run->acceleration.reset();
   return associator.table();
 }
 

@@ -78,3 +78,32 @@ TEST_CASE("Associator: a coarse level that finds no pair is dropped for every po
   CHECK(core_test::table_mismatch(a.table(), source, f.target, Eigen::Isometry3d::Identity(),
                                   0.15 * 0.15) == "");
 }
+
+TEST_CASE("Associator: a start beyond every target point falls back to the solved pose",
+          "[associator]") {
+  Fixture f;
+  const double radius = 0.15;
+  const Eigen::Isometry3d T = pose(5);  // the last solved pose: pairs
+  Eigen::Isometry3d away = T;
+  away.translation() += Eigen::Vector3d(0, 0, 50);  // an extrapolation far past the target
+  for (int cache_extra : {0, 4}) {
+    INFO("cache_extra " << cache_extra);
+    Associator a;
+    a.set_target(&f.tree, &f.target);
+    a.prepare(Associator::Settings{5, radius, cache_extra, 1, nullptr}, f.source, nullptr);
+    Eigen::Isometry3d T_start = away;
+    CHECK(a.find_from(false, T, &T_start));
+    CHECK(T_start.matrix() == T.matrix());
+    CHECK(a.table().pairs > 0);
+    CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, T, radius * radius) == "");
+    // A start with pairs is kept.
+    Eigen::Isometry3d near = pose(6);
+    CHECK_FALSE(a.find_from(false, T, &near));
+    CHECK(near.matrix() == pose(6).matrix());
+    CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, near, radius * radius) == "");
+    // No fallback from the solved pose itself: no pair there is no pair.
+    Eigen::Isometry3d at = away;
+    CHECK_FALSE(a.find_from(false, away, &at));
+    CHECK(a.table().pairs == 0);
+  }
+}

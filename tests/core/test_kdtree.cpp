@@ -281,8 +281,8 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
                            0.1 * static_cast<double>(rng() % 10));
       }
     }
-    KdTree tree;
-    REQUIRE(tree.build(cloud).ok());
+    KdTree tree;  // built on two threads for every other cloud: the same tree
+    REQUIRE(tree.build(cloud, c % 2 == 0 ? nullptr : core_test::pool(2)).ok());
     const ppcr::detail::CloudAdaptor adaptor{&cloud};
     const ppcr::detail::Tree reference(
         3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
@@ -311,4 +311,46 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
   // The cases must exercise points exactly at the radius.
   CHECK(queries == 24 * 200);
   CHECK(at_radius > queries);
+}
+
+// The tree is built as nanoflann builds its own (the same splits: kdtree.cpp's TreeBuilder), on one
+// thread and on two (the root's subtrees at once): nanoflann's leaf order, the order in which its
+// splits leave the points, must come out, index for index. Clouds with ties along the split axes
+// (grids, duplicates, a flat and a straight one), clustered ones, and sizes around a leaf's.
+TEST_CASE("the tree is nanoflann's: its leaf order on 1 and 2 threads", "[kdtree]") {
+  Rng rng(78);
+  std::vector<PointCloud> clouds;
+  clouds.push_back(core_test::uniform_cloud(rng, 5000, -1.0, 1.0));
+  clouds.push_back(clustered_cloud(rng, 4000));
+  clouds.push_back(with_duplicates(rng, 3000));
+  clouds.push_back(integer_grid(12));
+  PointCloud flat = core_test::uniform_cloud(rng, 3000, -2.0, 2.0);
+  for (Eigen::Vector3d& p : flat) p.z() = 0.0;
+  clouds.push_back(flat);
+  PointCloud line;
+  for (int i = 0; i < 500; ++i) line.emplace_back(0.25 * (i % 37), 1.0, -3.0);
+  clouds.push_back(line);
+  for (std::size_t n : {std::size_t{1}, std::size_t{ppcr::detail::kLeafMaxSize},
+                        std::size_t{ppcr::detail::kLeafMaxSize + 1}, std::size_t{100}}) {
+    clouds.push_back(core_test::uniform_cloud(rng, n, 0.0, 1.0));
+  }
+  for (std::size_t c = 0; c < clouds.size(); ++c) {
+    const PointCloud& cloud = clouds[c];
+    const ppcr::detail::CloudAdaptor adaptor{&cloud};
+    const ppcr::detail::Tree reference(
+        3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
+    const std::vector<std::uint32_t>& expected = ppcr::detail::tree_leaf_order(reference);
+    for (int threads : {1, 2}) {
+      INFO("cloud " << c << " (" << cloud.size() << " points), " << threads << " thread(s)");
+      KdTree tree;
+      REQUIRE(tree.build(cloud, core_test::pool(threads)).ok());
+      const auto& order = tree.leaf_order();
+      REQUIRE(order.size() == expected.size());
+      CHECK(std::equal(order.begin(), order.end(), expected.begin()));
+      // And the search on it: nearest 8 within 0.3 of a few points, against brute force.
+      for (int qi = 0; qi < 20; ++qi) {
+        CHECK(query_mismatch(tree, cloud, cloud[rng() % cloud.size()], 8, 0.09, false) == "");
+      }
+    }
+  }
 }
