@@ -8,7 +8,6 @@
 
 #include "format.hpp"
 #include "ppcr/voxel.hpp"
-#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -97,20 +96,14 @@ double internal_unit(double radius, double target_extent) {
 }
 
 Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
-                     const char* name, const ThreadPool* pool, PreparedCloud* out) {
+                     const char* name, PreparedCloud* out) {
   PointCloud& points = out->centered;  // the user's frame until center()
-  // Copied on the pool's threads (resize() does not write Eigen vectors: each thread touches its
-  // part's pages first, buffer.hpp), then the non-finite points dropped.
-  points.resize(in.size());
-  parallel_for(pool, static_cast<std::ptrdiff_t>(in.size()), [&](std::ptrdiff_t i) {
-    points[static_cast<std::size_t>(i)] = in[static_cast<std::size_t>(i)];
-  });
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (points[i].allFinite()) points[kept++] = points[i];
+  points.clear();
+  points.reserve(in.size());
+  for (const Eigen::Vector3d& p : in) {
+    if (p.allFinite()) points.push_back(p);
   }
-  out->dropped = points.size() - kept;
-  points.resize(kept);
+  out->dropped = in.size() - points.size();
   if (voxel > 0.0 && !points.empty()) {
     PointCloud filtered;
     Status s = voxel_downsample(points, voxel, &filtered);

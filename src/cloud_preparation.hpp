@@ -23,8 +23,6 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
-
 struct PreparedCloud {
   // The kept points in the internal frame, (p - origin) / unit; the only copy: the user's frame
   // is origin + unit * c, to rounding (user_point()).
@@ -52,10 +50,9 @@ double internal_unit(double radius, double target_extent);
 /// (the caller sorts them, spatial_order.hpp). name ("source" or "target") prefixes every message.
 /// Fails with kEmptyCloud below 3 usable points, and with kInvalidArgument for a cloud so far from
 /// the coordinate origin that a double cannot resolve a thousandth of its extent there or for a
-/// unit a double cannot divide by (subnormal). The copy of `in` runs on the pool's threads (null:
-/// the calling thread).
+/// unit a double cannot divide by (subnormal).
 Status prepare_cloud(const PointCloud& in, double voxel, double radius, double unit,
-                     const char* name, const ThreadPool* pool, PreparedCloud* out);
+                     const char* name, PreparedCloud* out);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -20,9 +20,9 @@ namespace {
 // follows it; `second` indexes the other), and the points copied in the tree's leaf order, x, y
 // and z apart, so that a leaf scans contiguous coordinates (its distances are vectorisable)
 // instead of gathering through an index array. TreeBuilder builds it as nanoflann 1.4 builds its
-// own (the same splits, hence the same tree: tests/core/test_kdtree.cpp), the two halves below
-// the root at once; the search below is nanoflann's searchLevel (same bounds, same visiting
-// order, hence the same result) on this layout.
+// own (the same splits, hence the same tree: tests/core/test_kdtree.cpp), its subtrees on the
+// pool's threads (ParallelBuild); the search below is nanoflann's searchLevel (same bounds, same
+// visiting order, hence the same result) on this layout.
 struct FlatNode {
   // Split node: the first child's upper and the second child's lower extent along `axis`
   // (nanoflann's divlow, divhigh).
@@ -176,6 +176,89 @@ class TreeBuilder {
   std::uint32_t* index_;
 };
 
+// The tree built on a pool's threads: the nodes holding more points than a grain are split on the
+// calling thread, then the subtrees below them are built at once (the pool hands them out as
+// threads free up: middle splits leave them unequal), then every node is laid out depth first.
+// The same splits as TreeBuilder::build alone: each partitions its own range of the index array.
+class ParallelBuild {
+ public:
+  ParallelBuild(const TreeBuilder& builder, std::size_t grain) : builder_(builder), grain_(grain) {}
+
+  // The tree over [0, n) into *nodes; *box, the cell on entry, becomes the bounding box.
+  void run(std::size_t n, Box* box, const ThreadPool* pool, Buffer<FlatNode>* nodes) {
+    plan(0, n, *box);
+    parallel_for(pool, static_cast<std::ptrdiff_t>(subtrees_.size()), [&](std::ptrdiff_t i) {
+      Top& t = tops_[static_cast<std::size_t>(subtrees_[static_cast<std::size_t>(i)])];
+      builder_.build(t.left, t.right, &t.box, &t.nodes);
+    });
+    std::size_t count = tops_.size() - subtrees_.size();
+    for (int t : subtrees_) count += tops_[static_cast<std::size_t>(t)].nodes.size();
+    nodes->clear();
+    nodes->reserve(count);
+    emit(0, nodes);
+    *box = tops_[0].box;
+  }
+
+ private:
+  // A node above the subtrees (a split: first, second >= 0), or one of them.
+  struct Top {
+    std::size_t left, right;
+    Box box;  // its cell, then its points' bounding box
+    int first = -1, second = -1;
+    std::uint32_t axis = 0;
+    Buffer<FlatNode> nodes;  // a subtree's, `second` counted from its own start
+  };
+
+  // The splits of the nodes above the grain, in the order TreeBuilder::build makes them.
+  int plan(std::size_t left, std::size_t right, const Box& cell) {
+    const int me = static_cast<int>(tops_.size());
+    tops_.push_back(Top{left, right, cell, -1, -1, 0, {}});
+    if (right - left <= grain_ || right - left <= kLeafMaxSize) {
+      subtrees_.push_back(me);
+      return me;
+    }
+    const TreeBuilder::Split s = builder_.split(left, right - left, cell);
+    Box first = cell, second = cell;
+    first[s.axis].high = s.cut;
+    second[s.axis].low = s.cut;
+    const int f = plan(left, left + s.size, first);
+    const int g = plan(left + s.size, right, second);
+    Top& t = tops_[static_cast<std::size_t>(me)];
+    t.first = f;
+    t.second = g;
+    t.axis = s.axis;
+    return me;
+  }
+
+  // Lays out top t's nodes depth first (a subtree's shifted to where they land) and joins the
+  // splits' boxes bottom-up.
+  void emit(int t, Buffer<FlatNode>* nodes) {
+    Top& top = tops_[static_cast<std::size_t>(t)];
+    if (top.first < 0) {
+      const std::uint32_t offset = static_cast<std::uint32_t>(nodes->size());
+      for (FlatNode node : top.nodes) {
+        if (!(node.axis & kLeaf)) node.second += offset;
+        nodes->push_back(node);
+      }
+      Buffer<FlatNode>().swap(top.nodes);
+      return;
+    }
+    const std::size_t me = nodes->size();
+    nodes->push_back(FlatNode{0.0, 0.0, 0, 0});
+    emit(top.first, nodes);
+    const std::uint32_t other = static_cast<std::uint32_t>(nodes->size());
+    emit(top.second, nodes);
+    const Top& first = tops_[static_cast<std::size_t>(top.first)];
+    const Top& second = tops_[static_cast<std::size_t>(top.second)];
+    TreeBuilder::join(top.axis, first.box, second.box, other, &(*nodes)[me], &top.box);
+  }
+
+  const TreeBuilder& builder_;
+  std::size_t grain_;
+  std::vector<Top> tops_;
+  std::vector<int> subtrees_;
+};
+
 // The points' bounding box (nanoflann's computeBoundingBox).
 Box bounding_box(const PointCloud& points) {
   Box box;
@@ -286,28 +369,9 @@ Status KdTree::build(const PointCloud& points, const ThreadPool* pool) {
       builder.build(0, n, &box, &m.nodes);
       m.nodes.shrink_to_fit();  // grown by doubling
     } else {
-      // The root's split, then its two subtrees at once, each into its own nodes, which follow
-      // the root in depth-first order: the first child's, then the second's (their `second`
-      // indices shifted by where they land).
-      const TreeBuilder::Split s = builder.split(0, n, box);
-      Box child_box[2] = {box, box};
-      child_box[0][s.axis].high = s.cut;
-      child_box[1][s.axis].low = s.cut;
-      Buffer<FlatNode> child_nodes[2];
-      parallel_for(pool, 2, [&](std::ptrdiff_t c) {
-        builder.build(c == 0 ? 0 : s.size, c == 0 ? s.size : n, &child_box[c], &child_nodes[c]);
-      });
-      const std::uint32_t first_size = static_cast<std::uint32_t>(child_nodes[0].size());
-      m.nodes.resize(1 + child_nodes[0].size() + child_nodes[1].size());
-      TreeBuilder::join(s.axis, child_box[0], child_box[1], 1 + first_size, &m.nodes[0], &box);
-      for (std::uint32_t c = 0, offset = 1; c < 2; offset += first_size, ++c) {
-        parallel_for(pool, static_cast<std::ptrdiff_t>(child_nodes[c].size()),
-                     [&](std::ptrdiff_t i) {
-                       FlatNode node = child_nodes[c][static_cast<std::size_t>(i)];
-                       if (!(node.axis & kLeaf)) node.second += offset;
-                       m.nodes[offset + static_cast<std::size_t>(i)] = node;
-                     });
-      }
+      // Subtrees of about a sixteenth of the points for two threads, handed out as threads free.
+      const std::size_t grain = n / (8 * static_cast<std::size_t>(pool->threads()));
+      ParallelBuild(builder, grain).run(n, &box, pool, &m.nodes);
     }
     for (std::size_t a = 0; a < 3; ++a) {
       m.box_low[a] = box[a].low;

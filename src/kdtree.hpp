@@ -48,7 +48,7 @@ class KdTree {
 
   /// Indexes a copy of points (in the tree's leaf order: 24 B per point, plus a 4 B index and
   /// about 4 B of nodes, 3.8 B on the lidar target). At most 2^31 - 1 points. With a pool of two
-  /// or more threads, the root's two subtrees are built at once; the tree is the same.
+  /// or more threads, subtrees are built at once; the tree is the same.
   Status build(const PointCloud& points, const ThreadPool* pool = nullptr);
 
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq

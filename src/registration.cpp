@@ -238,8 +238,7 @@ Status Registration::Impl::take_source() {
 // Prepares `cloud` as the target: filtered, centred in its own unit, ordered (order()), then
 // index_target().
 Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
-  const Status s =
-      detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &pool, &target);
+  const Status s = detail::prepare_cloud(cloud, voxel, unit_radius(), 0.0, "target", &target);
   if (!s.ok()) return s;
   order(&target);
   return index_target();
@@ -328,8 +327,8 @@ Status Registration::Impl::check_input(const Eigen::Isometry3d& T_initial) const
 // Filters, centres and Z-orders the source (consecutive points then share their neighbours:
 // spatial_order.hpp), and fits its normals when the pairs use them.
 Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationResult* result) {
-  Status s = detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source",
-                                   &pool, &source);
+  Status s =
+      detail::prepare_cloud(cloud, options.source_voxel, radius, target.unit, "source", &source);
   result->source_non_finite = source.dropped;
   if (!s.ok()) return s;
   order(&source);
