@@ -5,7 +5,7 @@
 // touches its pages for the first time, on every thread of the pool, where std::vector would
 // have zeroed them all on the calling thread first. A first touch is a page fault, which costs
 // 8-15 us per 4 KiB page on the virtual machines we measure on: zeroing the association, cache
-// and weight buffers of a 65k-point registration took 35 ms on one thread
+// and weight buffers of a 65k-point registration took 26-34 ms on one thread
 // (docs/PERFORMANCE.md).
 //
 // Only for buffers whose every element is written before it is read.

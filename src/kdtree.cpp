@@ -55,6 +55,12 @@ class TreeBuilder {
     std::size_t size;  // points in the first child
     std::uint32_t axis;
     double cut;  // along axis: the first child's upper bound, the second's lower
+    // The children's cells: `cell` cut at `cut` along `axis`.
+    void cells(const Box& cell, Box* first, Box* second) const {
+      *first = *second = cell;
+      (*first)[axis].high = cut;
+      (*second)[axis].low = cut;
+    }
   };
 
   // divideTree: appends the subtree over [left, right) to *nodes, depth first, `second` counted
@@ -65,13 +71,12 @@ class TreeBuilder {
     if (right - left <= kLeafMaxSize) {
       (*nodes)[me].second = static_cast<std::uint32_t>(left);
       (*nodes)[me].axis = kLeaf | static_cast<std::uint32_t>(right);
-      leaf_box(left, right, box);
+      bounding_box(left, right, box);
       return;
     }
     const Split s = split(left, right - left, *box);
-    Box first = *box, second = *box;
-    first[s.axis].high = s.cut;
-    second[s.axis].low = s.cut;
+    Box first, second;
+    s.cells(*box, &first, &second);
     build(left, left + s.size, &first, nodes);
     const std::size_t other = nodes->size();
     build(left + s.size, right, &second, nodes);
@@ -81,25 +86,29 @@ class TreeBuilder {
   // middleSplit_: among the axes whose cell side is within 1e-5 of the longest, the one along
   // which the points spread most (the first of equals); cut at the cell's middle, clamped to the
   // points' range; the points partitioned at the cut (planeSplit), the first child taking those
-  // below it, then as many equal to it as balance the two.
+  // below it, then as many equal to it as balance the two. (nanoflann scans the chosen axis'
+  // range again; the scan of the loop gives the same values.)
   Split split(std::size_t left, std::size_t count, const Box& box) const {
     const double eps = 0.00001;
     double max_span = box[0].high - box[0].low;
     for (std::uint32_t a = 1; a < 3; ++a) max_span = std::max(max_span, box[a].high - box[a].low);
     double max_spread = -1.0;
     std::uint32_t axis = 0;
+    double lo = 0.0, hi = 0.0;  // the points' range along axis
     for (std::uint32_t a = 0; a < 3; ++a) {
       if (!(box[a].high - box[a].low > (1 - eps) * max_span)) continue;
-      double lo, hi;
-      min_max(left, count, a, &lo, &hi);
-      if (hi - lo > max_spread) {
+      double a_lo, a_hi;
+      min_max(left, count, a, &a_lo, &a_hi);
+      if (a_hi - a_lo > max_spread) {
         axis = a;
-        max_spread = hi - lo;
+        max_spread = a_hi - a_lo;
+        lo = a_lo;
+        hi = a_hi;
       }
     }
+    // A cell of no extent (every point equal) has no candidate axis: axis 0, scanned here.
+    if (max_spread < 0.0) min_max(left, count, axis, &lo, &hi);
     const double middle = (box[axis].low + box[axis].high) / 2;
-    double lo, hi;
-    min_max(left, count, axis, &lo, &hi);
     const double cut = middle < lo ? lo : (middle > hi ? hi : middle);
     std::size_t below, not_above;
     plane_split(left, count, axis, cut, &below, &not_above);
@@ -118,10 +127,9 @@ class TreeBuilder {
     }
   }
 
- private:
-  double coordinate(std::size_t k, std::uint32_t axis) const { return points_[index_[k]][axis]; }
-
-  void leaf_box(std::size_t left, std::size_t right, Box* box) const {
+  // The bounding box of points[index[left..right)) (a leaf's; nanoflann's computeBoundingBox
+  // over the whole cloud).
+  void bounding_box(std::size_t left, std::size_t right, Box* box) const {
     for (std::uint32_t a = 0; a < 3; ++a) (*box)[a].low = (*box)[a].high = coordinate(left, a);
     for (std::size_t k = left + 1; k < right; ++k) {
       for (std::uint32_t a = 0; a < 3; ++a) {
@@ -131,6 +139,9 @@ class TreeBuilder {
       }
     }
   }
+
+ private:
+  double coordinate(std::size_t k, std::uint32_t axis) const { return points_[index_[k]][axis]; }
 
   // computeMinMax.
   void min_max(std::size_t left, std::size_t count, std::uint32_t axis, double* lo,
@@ -218,9 +229,8 @@ class ParallelBuild {
       return me;
     }
     const TreeBuilder::Split s = builder_.split(left, right - left, cell);
-    Box first = cell, second = cell;
-    first[s.axis].high = s.cut;
-    second[s.axis].low = s.cut;
+    Box first, second;
+    s.cells(cell, &first, &second);
     const int f = plan(left, left + s.size, first);
     const int g = plan(left + s.size, right, second);
     Top& t = tops_[static_cast<std::size_t>(me)];
@@ -258,19 +268,6 @@ class ParallelBuild {
   std::vector<Top> tops_;
   std::vector<int> subtrees_;
 };
-
-// The points' bounding box (nanoflann's computeBoundingBox).
-Box bounding_box(const PointCloud& points) {
-  Box box;
-  for (std::size_t a = 0; a < 3; ++a) box[a].low = box[a].high = points[0][a];
-  for (const Eigen::Vector3d& p : points) {
-    for (std::size_t a = 0; a < 3; ++a) {
-      if (p[a] < box[a].low) box[a].low = p[a];
-      if (p[a] > box[a].high) box[a].high = p[a];
-    }
-  }
-  return box;
-}
 
 }  // namespace
 
@@ -363,8 +360,9 @@ Status KdTree::build(const PointCloud& points, const ThreadPool* pool) {
     const std::size_t n = points.size();
     m.index.resize(n);
     for (std::size_t i = 0; i < n; ++i) m.index[i] = static_cast<std::uint32_t>(i);
-    Box box = bounding_box(points);
     const TreeBuilder builder(points, m.index.data());
+    Box box;
+    builder.bounding_box(0, n, &box);  // the index is still the identity
     if (pool == nullptr || pool->threads() < 2 || n <= kLeafMaxSize) {
       builder.build(0, n, &box, &m.nodes);
       m.nodes.shrink_to_fit();  // grown by doubling
