@@ -356,8 +356,9 @@ const std::vector<Option>& options_table() {
       value("neighbour_cache", &E::neighbour_cache,
             "expert: extra candidates cached per source point (0 = none; same result)"),
       value("coarse_stride", &E::coarse_stride,
-            "expert: 'em' coarse phase: register every n-th source point, in [1, 64] (-1 = "
-            "automatic: 2 with the plane model, 1 with the point model)"),
+            "expert: 'em': register every n-th source point while the scale settles (the "
+            "coarse phase and its halving), in [1, 64] (-1 = automatic: 2 with the plane model, "
+            "1 with the point model)"),
   };
   return table;
 }

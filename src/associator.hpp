@@ -5,9 +5,10 @@
 // tree query of every point; tests/core/test_associator.cpp checks both against the plain path):
 //  - a neighbour cache (neighbour_cache.hpp): candidate lists that prove most points' answers
 //    without a query;
-//  - a coarse level: while the EM scale is coarse, only every stride-th source point (in Z-order,
-//    so spread over the whole cloud) is associated; the first fine association spreads the
-//    coarse level's lists over every point.
+//  - a coarse level: while the caller asks for it (the registration does while the EM scale
+//    settles: coarse, then halving), only every stride-th source point (in Z-order, so spread over
+//    the whole cloud) is associated; the first association of every point spreads the coarse
+//    level's lists over every point.
 // With the plane model and source normals it also records what each pair's normal is formed from
 // (the rows' source normals and the association's rotation: PairNormalSource, pair_normals.hpp).
 #pragma once

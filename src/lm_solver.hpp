@@ -43,6 +43,11 @@ class LMSolver {
   const Buffer<double>& weights() const { return w_; }
 
  private:
+  // One pass at `pose` (normal_equations.hpp): w_new gets its weights; w_prev, if not null, gives
+  // the cost under the previous ones.
+  void evaluate(const LMProblem& problem, const Eigen::Isometry3d& pose, const double* w_prev,
+                double* w_new, Evaluation* out);
+
   NormalEquations normal_equations_;
   // The weights at the current pose. A trial pass reads them (the cost under the previous
   // weights) and overwrites them with the trial pose's, point by point; a rejected step restores

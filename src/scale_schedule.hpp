@@ -10,7 +10,8 @@
 //     em_min_scale^2), the EM estimate being sum_kj w_kj r_kj / (3 x matched source points) at
 //     the final pose (the M-step of the scale).
 // While the scale is coarse or still shrinking at the em_min_shrink limit, it is "settling": the
-// adaptive termination criteria do not count (termination.hpp).
+// adaptive termination criteria do not count (termination.hpp), and the registration registers
+// the coarse level (associator.hpp) until the first iteration that is not settling.
 #pragma once
 
 #include "ppcr/abi.hpp"

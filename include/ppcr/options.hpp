@@ -100,9 +100,10 @@ struct ExpertOptions {
   // Speed; the registration's result does not depend on them beyond rounding.
   int neighbour_cache = 4;  // extra candidates kept per point for exact incremental association
                             // (0 = query the k-d tree for every point in every iteration)
-  int coarse_stride = static_cast<int>(kAutomatic);  // kEM coarse phase: register every n-th
-                                                     // source point (Z-order), [1, 64];
-                                                     // kAutomatic: 2 (plane), 1 (point)
+  int coarse_stride = static_cast<int>(kAutomatic);  // kEM: while the scale settles (coarse,
+                                                     // then shrinking at its limit) register
+                                                     // every n-th source point (Z-order),
+                                                     // [1, 64]; kAutomatic: 2 (plane), 1 (point)
 };
 
 struct IterationRecord;

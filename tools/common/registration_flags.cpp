@@ -139,8 +139,9 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
             "; 0 = none; same result either way)",
         kExpertGroup);
   value(app, "--coarse-stride", &f->coarse_stride,
-        "em: register every n-th source point in the coarse phase: auto (2 with the plane "
-        "model, 1 with the point model) or an integer in [1, 64]",
+        "em: register every n-th source point while the scale settles (the coarse phase and "
+        "its halving): auto (2 with the plane model, 1 with the point model) or an integer in "
+        "[1, 64]",
         kExpertGroup);
   value(app, "--lm-tolerance", &e.lm_function_tolerance,
         "inner LM: stop after a step lowering the cost by less than this fraction (default " +
