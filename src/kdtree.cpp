@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "kdtree_nanoflann.hpp"
+#include "radius_knn_result.hpp"
 #include "thread_pool.hpp"
 
 namespace ppcr {
@@ -32,7 +32,7 @@ struct FlatNode {
 };
 constexpr std::uint32_t kLeaf = 0x80000000u;
 // Points a leaf's distances are computed for at once (on the stack). A leaf holds at most
-// kLeafMaxSize points (kdtree_nanoflann.hpp), so it is one chunk; the loop over chunks is for
+// kLeafMaxSize points (kdtree.hpp), so it is one chunk; the loop over chunks is for
 // safety only (a larger leaf would be scanned in several, not overflow the arrays), and no test
 // reaches a second chunk.
 constexpr std::uint32_t kChunk = 32;

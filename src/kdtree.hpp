@@ -1,9 +1,9 @@
 // kdtree.hpp - a k-d tree over a cloud (the target; the source too for its normals), the
 // radius-limited k-nearest-neighbour query, and that query seeded by points already known.
 //
-// nanoflann's tree (1.4's splits) and search, on a flat layout of our own (kdtree.cpp), with the
-// same tree and results as nanoflann's; nanoflann stays behind a pimpl (only kdtree.cpp and
-// kdtree_nanoflann.hpp include it, for its result set's interface). Distances are SQUARED, as
+// nanoflann 1.4's tree (its splits) and search, written anew on a flat layout of our own
+// (kdtree.cpp), with the same tree and results as nanoflann's own (tests/core/test_kdtree.cpp
+// checks them against it; the library does not include nanoflann). Distances are SQUARED, as
 // nanoflann's L2 metric: every distance here is squared and says so.
 #pragma once
 
@@ -21,6 +21,14 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
 class ThreadPool;  // thread_pool.hpp
+
+// A node of at most this many points is a leaf (nanoflann's leaf_max_size; nanoflann 1.4-1.7
+// split a larger node so that each side keeps at least one point: leaves hold 1 to
+// kLeafMaxSize). By timing (docs/PERFORMANCE.md; gains of a few % against the timing noise):
+// leaves of 24 and 32 were faster than 16 with either leaf scan, within the noise of each other;
+// with the one-step scan 8 was slower and 12 no faster; the two-step scan with 16 was not faster
+// on lidar.
+constexpr unsigned kLeafMaxSize = 24;
 
 /// |a - b|^2 as every neighbour search here computes it: the neighbour cache's re-ranks
 /// (neighbour_cache.cpp) call it, and the k-d tree's leaves (kdtree.cpp) call its form that takes
@@ -53,7 +61,7 @@ class KdTree {
 
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq
   /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to
-  /// its cell exceeds radius_sq: kdtree_nanoflann.hpp), sorted by increasing distance; writes
+  /// its cell exceeds radius_sq: radius_knn_result.hpp), sorted by increasing distance; writes
   /// indices[0..n), dist_sq[0..n) and returns n. The same result as nanoflann's own search
   /// when both are compiled without contraction into fused multiply-adds, as our targets are
   /// (-ffp-contract=off): otherwise nanoflann's distance and ours can round apart, and a point at
@@ -85,7 +93,7 @@ class KdTree {
 /// The bound of a seeded query: max_sq widened by 1e-9 of itself. The margin covers the rounding
 /// between the two distance computations: a point's distance is computed as its seed's was, but
 /// the search skips a cell by its own rounded distance to the query (built up axis by axis), which
-/// can exceed the distance of a point inside it (kdtree_nanoflann.hpp) and so skip a point at
+/// can exceed the distance of a point inside it (radius_knn_result.hpp) and so skip a point at
 /// exactly the bound. Should rounding beyond the margin skip one, the bounded query finds fewer
 /// than k and seeded_radius_knn repeats it.
 inline double seed_bound_sq(double max_sq) { return max_sq * (1.0 + 1e-9); }

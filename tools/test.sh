@@ -76,6 +76,7 @@ for stage in $stages; do
     nanoflann-next)
       # Not in the default stages (it downloads): the release build against Debian 13's
       # nanoflann (1.7.1 when written), unpacked under build/, instead of the system's 1.4.3.
+      # nanoflann is the k-d tree test's reference (and ppcr_synth's), not the library's.
       echo "== nanoflann-next: build and run all tests against Debian 13's nanoflann"
       "$root/tools/install_deps.sh" curl ca-certificates
       config=$("$root/tools/fetch_nanoflann_debian13.sh" "$root/build/nanoflann-debian13")
@@ -90,7 +91,8 @@ for stage in $stages; do
       export CMAKE_GENERATOR="Unix Makefiles"
       build_and_test build/test-nanoflann-next Release "" -Dnanoflann_DIR="$config"
       # After ctest, which also builds the consumer projects (tests/consumer).
-      if ! grep -qF "$header" build/test-nanoflann-next/CMakeFiles/ppcr.dir/src/kdtree.cpp.o.d ||
+      kdtree_test=build/test-nanoflann-next/tests/core/CMakeFiles/ppcr_core_kdtree_test.dir
+      if ! grep -qF "$header" "$kdtree_test/test_kdtree.cpp.o.d" ||
          grep -rlE --include='*.d' '(^|[[:space:]])/usr/include/nanoflann\.hpp' \
            build/test-nanoflann-next >&2; then
         echo "test.sh: not every nanoflann user was compiled against $header (files above)" >&2

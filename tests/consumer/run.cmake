@@ -1,8 +1,6 @@
 # ctest driver: install the main build into a scratch prefix, then configure, build and run the
-# consumer both ways. Variables: BUILD_DIR (the main build), SOURCE_DIR, WORK_DIR, and the
-# nanoflann the main build used (optional, passed on when set): nanoflann_DIR (its CMake package)
-# or NANOFLANN_INCLUDE_DIR (the folder of its header, third_party/cmake/Findnanoflann.cmake),
-# and CXX_COMPILER and CXX_FLAGS, the main build's compiler and CMAKE_CXX_FLAGS, which compile the
+# consumer both ways. Variables: BUILD_DIR (the main build), SOURCE_DIR, WORK_DIR, and
+# CXX_COMPILER and CXX_FLAGS, the main build's compiler and CMAKE_CXX_FLAGS, which compile the
 # consumers; PROGRAMS, the executables the main build made (comma-separated), which the install
 # must hold.
 function(run)
@@ -27,12 +25,9 @@ if(EXISTS ${WORK_DIR}/prefix/include/ppcr/synthetic.hpp OR
    NOT EXISTS ${WORK_DIR}/prefix/include/ppcr/io.hpp)
   message(FATAL_ERROR "installed headers: synthetic.hpp (not installed library) or no io.hpp")
 endif()
-set(nanoflann_args "")
-foreach(var nanoflann_DIR NANOFLANN_INCLUDE_DIR)
-  if(${var})  # false when empty or *-NOTFOUND
-    list(APPEND nanoflann_args -D${var}=${${var}})
-  endif()
-endforeach()
+# The libraries need Eigen alone: a consumer in which any find_package(nanoflann) fails (a
+# REQUIRED one is an error when disabled) configures and builds both ways.
+set(nanoflann_args -DCMAKE_DISABLE_FIND_PACKAGE_nanoflann=ON)
 foreach(mode package subdirectory)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${mode}
       -DCONSUMER_MODE=${mode} -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args}

@@ -10,7 +10,7 @@
 
 #include "core_test_util.hpp"
 #include "kdtree.hpp"
-#include "kdtree_nanoflann.hpp"
+#include "nanoflann_reference.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
