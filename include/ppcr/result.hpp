@@ -47,7 +47,7 @@ bool is_criterion_stop(StopReason reason);
 /// One row of the per-iteration trace.
 struct IterationRecord {
   int iteration = 0;           // 1-based
-  bool coarse = false;         // the EM scale's coarse phase (a subsampled source, a wide scale)
+  bool coarse = false;         // the EM scale's coarse phase (a wide scale, a subsampled source)
   int successful_steps = 0;    // LM accepted steps
   int unsuccessful_steps = 0;  // LM rejected steps
   double initial_cost = 0.0;   // inner problem's cost before / after LM
@@ -56,7 +56,7 @@ struct IterationRecord {
   double mse_prev = 0.0;   // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5), cloud units^2
   double scale = 0.0;      // s used by the E-step, cloud units
   // Associated (source, target) pairs and source points with at least one neighbour (of the
-  // subsampled source in the coarse phase).
+  // subsampled source while the EM scale settles: the coarse phase and the halving after it).
   std::size_t correspondences = 0;
   std::size_t matched_source_points = 0;
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
