@@ -40,10 +40,10 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
 void Associator::find(bool coarse, const Eigen::Isometry3d& T) {
   coarse = coarse && use_coarse_;
   associate(coarse, T);
-  if (coarse && table_.pairs == 0) {
-    use_coarse_ = false;
-    associate(false, T);
-  }
+  if (coarse && table_.pairs == 0) associate(false, T);
+  // Once every point is associated the coarse level is gone: its rows were spread over every
+  // point, whose lists the cache now holds.
+  if (!coarse_associated_) use_coarse_ = false;
 }
 
 bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start) {

@@ -49,8 +49,9 @@ class Associator {
                const std::vector<Eigen::Vector3d>* source_normals);
 
   /// Associates at T (internal frame): the coarse level while `coarse` and it exists, else every
-  /// point. A coarse level that finds no pair is dropped for the rest of the run (its points may
-  /// miss a small overlap that others reach) and every point is associated instead.
+  /// point. A coarse level that finds no pair is dropped (its points may miss a small overlap that
+  /// others reach) and every point is associated instead; once every point has been associated,
+  /// the coarse level is gone for the rest of the run, whatever `coarse` asks.
   /// Allocation-free.
   void find(bool coarse, const Eigen::Isometry3d& T);
   /// find() at *T_start; when that finds no pair and *T_start is not T, find() at T, with

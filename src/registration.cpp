@@ -372,9 +372,6 @@ struct Registration::Impl::Run {
   detail::ScaleSchedule scale;
   detail::LMProblem problem;
   detail::PoseAcceleration acceleration;  // of the coarse phase
-  // Whether the associator may still register the coarse level: while the EM scale settles
-  // (coarse, or shrinking at its limit), and never again once every point was registered.
-  bool coarse_level = true;
   LMOptions coarse_lm;
   double fine_tolerance;      // the inner LM's tolerance in the EM fine phase (0: none)
   double previous_tolerance;  // the last solve's
@@ -412,7 +409,6 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
                             reference_length),
       problem(reference_length, source_extent),
       detail::PoseAcceleration(o.expert.acceleration_memory, source_rms, kAccelerationGain),
-      /*coarse_level=*/true,
       coarse_lm,
       detail::fine_function_tolerance(o),
       coarse_lm.function_tolerance};
@@ -483,8 +479,9 @@ RegistrationResult Registration::Impl::iterate(const Eigen::Isometry3d& T_initia
   for (int t = 1; reason == StopReason::kNone; ++t) {
     const Clock::time_point start = Clock::now();
     const bool coarse = run.scale.coarse();
-    run.coarse_level = run.coarse_level && run.scale.settling();
-    const detail::AssociationTable& pairs = associate(&run, run.coarse_level, T, &T_next);
+    // The coarse level while the EM scale settles (coarse, or shrinking at its limit); the
+    // associator never returns to it once it has associated every point.
+    const detail::AssociationTable& pairs = associate(&run, run.scale.settling(), T, &T_next);
     result.matched_source_points = pairs.matched;
     result.correspondences = pairs.pairs;
     if (pairs.pairs == 0) {

@@ -79,6 +79,33 @@ TEST_CASE("Associator: a coarse level that finds no pair is dropped for every po
                                   0.15 * 0.15) == "");
 }
 
+TEST_CASE("Associator: once every point is associated, the coarse level is gone for the run",
+          "[associator]") {
+  // The caller may ask for the coarse level again (the registration asks while the EM scale
+  // settles, and it can settle again after a full iteration): the rows were spread over every
+  // point, and the table stays every point's.
+  Fixture f;
+  const double radius = 0.15;
+  for (int cache_extra : {0, 4}) {
+    INFO("cache_extra " << cache_extra);
+    Associator a;
+    a.set_target(&f.tree, &f.target);
+    a.prepare(Associator::Settings{5, radius, cache_extra, 3, nullptr}, f.source, nullptr);
+    a.find(true, pose(0));
+    REQUIRE(a.coarse());
+    a.find(false, pose(1));
+    CHECK_FALSE(a.has_coarse_level());
+    for (int step = 2; step < 5; ++step) {
+      INFO("step " << step);
+      a.find(true, pose(step));
+      CHECK_FALSE(a.coarse());
+      CHECK(a.points().size() == f.source.size());
+      CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, pose(step),
+                                      radius * radius) == "");
+    }
+  }
+}
+
 TEST_CASE("Associator: a start beyond every target point falls back to the solved pose",
           "[associator]") {
   Fixture f;
