@@ -1,6 +1,10 @@
 // associator.cpp - see associator.hpp.
 #include "associator.hpp"
 
+#include <algorithm>
+
+#include "thread_pool.hpp"
+
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
@@ -21,20 +25,31 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   use_cache_ = settings.cache_extra > 0 && capacity <= NeighbourCache::kMaxCapacity;
   // Sized for every point first, so that the coarse level's rows grow back without allocating.
   table_.resize(n, k);
-  if (use_cache_) cache_.resize(n, capacity);  // also forgets the previous source's lists
+  // also forgets the previous source's lists
+  if (use_cache_) cache_.resize(n, capacity, settings.pool);
   const std::size_t stride = settings.coarse_stride;
   use_coarse_ = stride > 1;
   coarse_associated_ = false;
   if (!use_coarse_) return;
   const std::size_t n_coarse = (n + stride - 1) / stride;
+  // Sized without being written (Eigen's vectors are not zeroed), then copied on the threads:
+  // their pages' first touch is a page fault (buffer.hpp).
   coarse_points_.resize(n_coarse);
   if (source_normals_ != nullptr) coarse_normals_.resize(n_coarse);
-  for (std::size_t i = 0; i < n_coarse; ++i) {
-    coarse_points_[i] = source[i * stride];
-    if (source_normals_ != nullptr) coarse_normals_[i] = (*source_normals_)[i * stride];
-  }
+  constexpr std::size_t kBlock = 4096;
+  parallel_for(settings.pool, static_cast<std::ptrdiff_t>((n_coarse + kBlock - 1) / kBlock),
+               [&](std::ptrdiff_t b) {
+                 const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
+                 const std::size_t end = std::min(n_coarse, begin + kBlock);
+                 for (std::size_t i = begin; i < end; ++i) {
+                   coarse_points_[i] = source[i * stride];
+                   if (source_normals_ != nullptr) {
+                     coarse_normals_[i] = (*source_normals_)[i * stride];
+                   }
+                 }
+               });
   table_.resize(n_coarse, k);
-  if (use_cache_) cache_.resize(n_coarse, capacity);
+  if (use_cache_) cache_.resize(n_coarse, capacity, settings.pool);
 }
 
 void Associator::find(bool coarse, const Eigen::Isometry3d& T) {
@@ -59,7 +74,9 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   // From the coarse level to every point: the rows grow, the coarse points keeping theirs.
   const bool spread = coarse_associated_ && !coarse;
   if (use_cache_) {
-    if (spread) spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_);
+    if (spread) {
+      spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_, settings_.pool);
+    }
     associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.pool, &cache_,
                      &table_);
   } else {

@@ -79,7 +79,7 @@ double set_radius_sq(int n, int k, double m, double radius, double outside_min, 
 
 }  // namespace
 
-void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
+void NeighbourCache::resize(std::size_t source_points, int new_capacity, const ThreadPool* pool) {
   capacity = new_capacity;
   index.resize(source_points * static_cast<std::size_t>(new_capacity));
   count.resize(source_points);
@@ -89,12 +89,18 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity) {
   seed.resize(source_points);
   ranked_call.resize(source_points);
   set_radius_sq.resize(source_points);
-  invalidate();
+  invalidate(pool);
 }
 
-void NeighbourCache::invalidate() {
-  for (double& b : bound) b = -1.0;
-  for (double& rho_sq : set_radius_sq) rho_sq = -1.0;
+void NeighbourCache::invalidate(const ThreadPool* pool) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t n = bound.size();
+  parallel_for(pool, static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock), [&](std::ptrdiff_t b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
+    const std::size_t end = std::min(n, begin + kBlock);
+    std::fill(bound.data() + begin, bound.data() + end, -1.0);
+    std::fill(set_radius_sq.data() + begin, set_radius_sq.data() + end, -1.0);
+  });
   table = nullptr;
   last_queries = 0;
   last_seeded = 0;
@@ -326,7 +332,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   // The lists and rho hold for the table, k and radius of the last call (the set certificate
   // re-sorts that table's rows in place): anything else starts afresh.
   if (cache->table != table || cache->table_k != c.k || cache->table_radius != radius) {
-    cache->invalidate();
+    cache->invalidate(pool);
   }
   // Points in blocks of kSeedBlock, each visited in order by one thread: a point without a list
   // to seed its query from may seed it from the block's previous point's list ("Seeded
@@ -348,7 +354,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 }
 
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
-                  AssociationTable* table) {
+                  AssociationTable* table, const ThreadPool* pool) {
   const std::size_t coarse = cache->count.size();
   assert(cache->table == table && table->count.size() == coarse && stride >= 2 &&
          (coarse == 0 || (coarse - 1) * stride < points));
@@ -366,7 +372,7 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   cache->ranked_call.resize(points);
   cache->set_radius_sq.resize(points);
   table->resize(points, table->k);
-  for (std::size_t i = coarse; i-- > 1;) {
+  auto move_row = [&](std::size_t i) {
     const std::size_t j = i * stride;
     std::copy_n(&cache->index[i * capacity], capacity, &cache->index[j * capacity]);
     cache->count[j] = cache->count[i];
@@ -376,13 +382,34 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
     cache->set_radius_sq[j] = cache->set_radius_sq[i];
     std::copy_n(&table->index[i * k], k, &table->index[j * k]);
     table->count[j] = table->count[i];
+  };
+  // Rows [lo, hi) with lo = ceil(hi / stride) move at once, on the pool's threads: their
+  // destinations, from lo * stride >= hi on, hold no row still to move (those are below lo) and
+  // none of this round's (below hi). Then the rows below lo, until row 0, which stays. Each row
+  // moves once, as the serial order from the last row down would move it: the same rows.
+  constexpr std::size_t kBlock = 1024;
+  for (std::size_t hi = coarse; hi > 1;) {
+    const std::size_t lo = std::max<std::size_t>(1, (hi + stride - 1) / stride);
+    parallel_for(pool, static_cast<std::ptrdiff_t>((hi - lo + kBlock - 1) / kBlock),
+                 [&](std::ptrdiff_t b) {
+                   const std::size_t begin = lo + static_cast<std::size_t>(b) * kBlock;
+                   const std::size_t end = std::min(hi, begin + kBlock);
+                   for (std::size_t i = begin; i < end; ++i) move_row(i);
+                 });
+    hi = lo;
   }
-  for (std::size_t j = 0; j < points; ++j) {
-    if (j % stride != 0) {  // no list: queried by the next call (j / stride < coarse otherwise)
-      cache->bound[j] = -1.0;
-      cache->set_radius_sq[j] = -1.0;
-    }
-  }
+  parallel_for(pool, static_cast<std::ptrdiff_t>((points + kBlock - 1) / kBlock),
+               [&](std::ptrdiff_t b) {
+                 const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
+                 const std::size_t end = std::min(points, begin + kBlock);
+                 for (std::size_t j = begin; j < end; ++j) {
+                   // No list: queried by the next call (j / stride < coarse otherwise).
+                   if (j % stride != 0) {
+                     cache->bound[j] = -1.0;
+                     cache->set_radius_sq[j] = -1.0;
+                   }
+                 }
+               });
 }
 
 }  // namespace detail

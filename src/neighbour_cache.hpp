@@ -142,10 +142,12 @@ struct NeighbourCache {
   /// on the bunny set; 0.4 and 0.7 are within the timing noise of it (docs/PERFORMANCE.md).
   static constexpr double kFastMove = 0.5;
 
-  /// Sizes the cache for source_points points and capacity candidates each, and empties it.
-  void resize(std::size_t source_points, int capacity);
-  /// Forgets every list (the next associate_cached queries every point).
-  void invalidate();
+  /// Sizes the cache for source_points points and capacity candidates each, and empties it. The
+  /// per-point marks are written on the pool's threads (null: the calling thread): a new
+  /// buffer's first touch is a page fault (buffer.hpp).
+  void resize(std::size_t source_points, int capacity, const ThreadPool* pool = nullptr);
+  /// Forgets every list (the next associate_cached queries every point); on the pool's threads.
+  void invalidate(const ThreadPool* pool = nullptr);
 };
 
 /// As associate() (association.hpp), with the cache: same table, fewer k-d tree queries. The
@@ -167,9 +169,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 /// only where the lists cannot prove the answer (a list-less point's query is bounded by its
 /// previous point's list when that list is long enough, "Seeded queries"). The rows grow within the
 /// vectors' capacity: allocation-free when the cache and table were sized for `points` before being
-/// sized for the coarse level. The cache must hold its last call's lists for `table`.
+/// sized for the coarse level. The cache must hold its last call's lists for `table`. On the pool's
+/// threads (null: the calling thread); the result does not depend on their number.
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
-                  AssociationTable* table);
+                  AssociationTable* table, const ThreadPool* pool = nullptr);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -152,10 +152,14 @@ class NormalEquations {
   /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
   /// for a target point without a normal): the information of the surface-normal part of the
   /// plane model alone (no epsilon), whose null directions are the motions the target's geometry
-  /// leaves unconstrained. Serial; once per registration.
+  /// leaves unconstrained. Once per registration, on the pool's threads (null: the calling
+  /// thread): summed per block of kBlockSize source points into *blocks (resized; allocates only
+  /// when it grows), then over the blocks in order, so that the sum does not depend on the
+  /// thread count.
   static Matrix6d normal_information(const PointCloud& source, const AssociationTable& assoc,
                                      const Eigen::Isometry3d& T, const double* w,
-                                     const Buffer<PlanePoint>& target_points);
+                                     const Buffer<PlanePoint>& target_points,
+                                     const ThreadPool* pool, std::vector<Matrix6d>* blocks);
 
  private:
   template <bool kPlane, bool kPairNormals, class Kernel>

@@ -146,6 +146,7 @@ struct Registration::Impl {
   detail::Associator associator;
   detail::LMSolver lm;
   std::vector<double> quality_scratch;
+  std::vector<detail::Matrix6d> information_blocks;  // normal_information's per-block sums
 
   struct Run;
   bool automatic_radius() const { return options.radius == RegistrationOptions::kAutomaticRadius; }
@@ -582,7 +583,8 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (!planes) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
-      associator.points(), associator.table(), T, lm.weights().data(), target_plane_points);
+      associator.points(), associator.table(), T, lm.weights().data(), target_plane_points, &pool,
+      &information_blocks);
   result->degenerate_directions = detail::degenerate_directions(H_normal, run.source_rms);
 }
 

@@ -5,7 +5,6 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 #include "thread_pool.hpp"
 
@@ -25,21 +24,20 @@ std::uint64_t spread_bits(std::uint64_t v) {
   return v;
 }
 
-// Applies the sorted keys' permutation in place (position i receives the point keys[i].second
+// Applies the sorted keys' permutation in place (position i receives the point keys[i].index
 // came from), to a and, if not null, to b: one cycle at a time, marking each position done in
 // the top bit of its key's index (indices stay below 2^31).
 constexpr std::uint32_t kDone = 0x80000000u;
 
-void permute(std::vector<std::pair<std::uint64_t, std::uint32_t>>* keys, PointCloud* a,
-             PointCloud* b) {
+void permute(Buffer<MortonKey>* keys, PointCloud* a, PointCloud* b) {
   for (std::size_t start = 0; start < keys->size(); ++start) {
-    if ((*keys)[start].second & kDone) continue;
+    if ((*keys)[start].index & kDone) continue;
     const Eigen::Vector3d first_a = (*a)[start];
     const Eigen::Vector3d first_b = b != nullptr ? (*b)[start] : Eigen::Vector3d::Zero();
     std::size_t to = start;
     for (;;) {
-      const std::size_t from = (*keys)[to].second;
-      (*keys)[to].second |= kDone;
+      const std::size_t from = (*keys)[to].index;
+      (*keys)[to].index |= kDone;
       if (from == start) {
         (*a)[to] = first_a;
         if (b != nullptr) (*b)[to] = first_b;
@@ -72,7 +70,7 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
   if (!(extent > 0.0 && extent <= std::numeric_limits<double>::max())) return;
   // Cells of one size on every axis (a flat cloud keeps its neighbours close on the flat axis).
   // (p - lo) / extent is in [0, 1] also for a tiny extent, where kCells / extent would overflow.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>>& keys = scratch->keys;
+  Buffer<MortonKey>& keys = scratch->keys;
   if (keys.capacity() < n) {  // exactly n: growing by resize() would double the capacity
     keys = {};
     keys.reserve(n);
@@ -84,7 +82,7 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
     const std::uint64_t code = spread_bits(static_cast<std::uint64_t>(q.x())) |
                                spread_bits(static_cast<std::uint64_t>(q.y())) << 1 |
                                spread_bits(static_cast<std::uint64_t>(q.z())) << 2;
-    keys[i] = {code, static_cast<std::uint32_t>(i)};
+    keys[i] = MortonKey{code, static_cast<std::uint32_t>(i)};
   });
   // (code, index) pairs are distinct: a total order, which any sort gives alike. With more than
   // one thread, the halves below and above the median key are sorted at once (nth_element
@@ -107,18 +105,17 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
   // repeated points (a scanner's invalid returns at its origin) or a far outlier that widens the
   // cells; a run of m points costs O(m log m).
   const PointCloud& points = *a;
-  auto by_coordinates = [&points](const std::pair<std::uint64_t, std::uint32_t>& l,
-                                  const std::pair<std::uint64_t, std::uint32_t>& r) {
-    const Eigen::Vector3d& p = points[l.second];
-    const Eigen::Vector3d& q = points[r.second];
+  auto by_coordinates = [&points](const MortonKey& l, const MortonKey& r) {
+    const Eigen::Vector3d& p = points[l.index];
+    const Eigen::Vector3d& q = points[r.index];
     if (p.x() != q.x()) return p.x() < q.x();
     if (p.y() != q.y()) return p.y() < q.y();
     if (p.z() != q.z()) return p.z() < q.z();
-    return l.second < r.second;
+    return l.index < r.index;
   };
   for (std::size_t begin = 0; begin < n;) {
     std::size_t end = begin + 1;
-    while (end < n && keys[end].first == keys[begin].first) ++end;
+    while (end < n && keys[end].code == keys[begin].code) ++end;
     if (end - begin > 1) std::sort(keys.begin() + begin, keys.begin() + end, by_coordinates);
     begin = end;
   }

@@ -14,9 +14,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
+#include "buffer.hpp"
 #include "ppcr/abi.hpp"
 #include "ppcr/types.hpp"
 
@@ -26,10 +26,19 @@ namespace detail {
 
 class ThreadPool;  // thread_pool.hpp
 
+/// A point's sort key: its Morton code, then its index (distinct: a total order).
+struct MortonKey {
+  std::uint64_t code;
+  std::uint32_t index;
+  bool operator<(const MortonKey& o) const {
+    return code < o.code || (code == o.code && index < o.index);
+  }
+};
+
 /// The buffer of spatial_sort (16 B per point), kept between calls so that a cloud of the same
-/// size reuses it.
+/// size reuses it. A Buffer: a larger cloud's keys are first written on the pool's threads.
 struct SpatialSortScratch {
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys;  // (Morton code, index)
+  Buffer<MortonKey> keys;
 };
 
 /// Reorders *a (and *b, of the same size, by the same permutation, if not null) in place by the

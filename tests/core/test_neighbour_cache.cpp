@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "association.hpp"
@@ -16,6 +17,7 @@
 #include "neighbour_cache.hpp"
 #include "ppcr/registration.hpp"
 #include "spatial_order.hpp"
+#include "thread_pool.hpp"
 
 using core_test::Rng;
 using core_test::table_mismatch;
@@ -513,8 +515,14 @@ TEST_CASE(
   const double radius = 0.15;
   const int k = 10, capacity = 14;
   constexpr std::size_t kSwitch = 7;  // the first pose of the full level: in the slow drift
-  for (std::size_t stride : {2u, 3u}) {
-    INFO("stride " << stride);
+  ppcr::detail::ThreadPool two(2);
+  // The rows spread on one thread and on two (spread_lists moves rows in parallel rounds).
+  for (const auto& [stride, pool] :
+       {std::pair<std::size_t, const ppcr::detail::ThreadPool*>{2, nullptr},
+        {3, nullptr},
+        {2, &two},
+        {3, &two}}) {
+    INFO("stride " << stride << ", threads " << (pool != nullptr ? 2 : 1));
     PointCloud coarse;
     for (std::size_t i = 0; i < source.size(); i += stride) coarse.push_back(source[i]);
     NeighbourCache cache;
@@ -534,7 +542,7 @@ TEST_CASE(
     const NeighbourCache before = cache;
     const AssociationTable table_before = table;
     const std::uint32_t* cache_data = cache.index.data();
-    ppcr::detail::spread_lists(stride, source.size(), &cache, &table);
+    ppcr::detail::spread_lists(stride, source.size(), &cache, &table, pool);
     CHECK(table.index.data() == index_data);  // grown within their capacity
     CHECK(cache.index.data() == cache_data);
     REQUIRE(cache.count.size() == source.size());

@@ -682,9 +682,16 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a
   }
   ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
   ppcr::detail::pack_plane_points(pb.target, normals, 0.05, nullptr, &points);
-  const Matrix6d got =
-      NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(), points);
+  std::vector<Matrix6d> blocks;
+  const Matrix6d got = NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(),
+                                                           points, nullptr, &blocks);
   CHECK(rel_diff(got, ref) < 1e-12);
+  // Summed in fixed blocks: the same to the bit on two threads.
+  ppcr::detail::ThreadPool pool(2);
+  std::vector<Matrix6d> blocks2;
+  const Matrix6d got2 = NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(),
+                                                            points, &pool, &blocks2);
+  CHECK(got2 == got);
 }
 
 TEST_CASE("plane model: g from b - Omega p (PlanePoint) stays within rounding of |y|, far out",
