@@ -25,7 +25,7 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   use_cache_ = settings.cache_extra > 0 && capacity <= NeighbourCache::kMaxCapacity;
   // Sized for every point first, so that the coarse level's rows grow back without allocating.
   table_.resize(n, k);
-  // also forgets the previous source's lists
+  // Also forgets the previous source's lists.
   if (use_cache_) cache_.resize(n, capacity, settings.pool);
   const std::size_t stride = settings.coarse_stride;
   use_coarse_ = stride > 1;

@@ -95,6 +95,7 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity, const T
 void NeighbourCache::invalidate(const ThreadPool* pool) {
   constexpr std::size_t kBlock = 4096;
   const std::size_t n = bound.size();
+  assert(set_radius_sq.size() == n);
   parallel_for(pool, static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock), [&](std::ptrdiff_t b) {
     const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
     const std::size_t end = std::min(n, begin + kBlock);
@@ -360,9 +361,7 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
          (coarse == 0 || (coarse - 1) * stride < points));
   const std::size_t capacity = static_cast<std::size_t>(cache->capacity);
   const std::size_t k = static_cast<std::size_t>(table->k);
-  // Grow (vector::resize keeps the rows held), then move row i to i * stride from the last row
-  // down: its destination lies past its own place (stride >= 2), so no row still to move is
-  // overwritten and no row overlaps its destination.
+  // Grow (vector::resize keeps the rows held), then move row i to i * stride (below).
   cache->index.resize(points * capacity);
   cache->count.resize(points);
   cache->query_call.resize(points);
@@ -386,7 +385,8 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   // Rows [lo, hi) with lo = ceil(hi / stride) move at once, on the pool's threads: their
   // destinations, from lo * stride >= hi on, hold no row still to move (those are below lo) and
   // none of this round's (below hi). Then the rows below lo, until row 0, which stays. Each row
-  // moves once, as the serial order from the last row down would move it: the same rows.
+  // is read before any row is written over it (its writer, row m / stride, lies in a later
+  // round), so every destination receives its source's original row.
   constexpr std::size_t kBlock = 1024;
   for (std::size_t hi = coarse; hi > 1;) {
     const std::size_t lo = std::max<std::size_t>(1, (hi + stride - 1) / stride);

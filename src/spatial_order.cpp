@@ -84,7 +84,7 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
                                spread_bits(static_cast<std::uint64_t>(q.z())) << 2;
     keys[i] = MortonKey{code, static_cast<std::uint32_t>(i)};
   });
-  // (code, index) pairs are distinct: a total order, which any sort gives alike. With more than
+  // (code, index) keys are distinct: a total order, which any sort gives alike. With more than
   // one thread, the halves below and above the median key are sorted at once (nth_element
   // costs a fraction of the sort, and needs no memory).
   if (pool != nullptr && pool->threads() > 1) {

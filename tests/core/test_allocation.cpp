@@ -136,6 +136,38 @@ TEST_CASE("the outer loop allocates nothing once a Registration has run once", "
   }
 }
 
+TEST_CASE("a first run that stops on the coarse level leaves later runs allocation-free",
+          "[allocation]") {
+  // The degeneracy test sums per block of the table's rows: a run stopped on the coarse level
+  // holds half as many, and the next run, on every point, must not grow that buffer.
+  core_test::Rng rng(182);
+  const PointCloud target = core_test::analytic_scene(rng, 8000);
+  const Eigen::Isometry3d M = core_test::make_pose(Eigen::Vector3d(0.3, 1.0, 0.2), 0.05,
+                                                   Eigen::Vector3d(0.03, -0.02, 0.01));
+  PointCloud source = core_test::transformed(target, M.inverse());
+  source.resize(5000);
+  for (int threads : {1, 2}) {
+    INFO("threads " << threads);
+    bool stop = true;
+    RegistrationOptions o;
+    o.radius = 0.2;
+    o.error_model = ErrorModel::kPlane;
+    o.expert.source_normals = false;  // with them, the source's tree is built in each align()
+    o.num_threads = threads;
+    o.record_history = false;
+    o.on_iteration = [&](const ppcr::IterationRecord&) { return !stop; };
+    ppcr::Registration reg(o);
+    REQUIRE(reg.set_target(target).ok());
+    const ppcr::RegistrationResult first = reg.align(source);
+    REQUIRE(first.iterations == 1);
+    REQUIRE(first.matched_source_points <= (source.size() + 1) / 2);  // the coarse level's rows
+    stop = false;
+    const LoopCounts c = count(&reg, source);
+    REQUIRE(c.iterations >= 5);
+    CHECK(c.whole == 0);
+  }
+}
+
 TEST_CASE("the pose acceleration allocates nothing, also with linearly dependent columns",
           "[allocation]") {
   // A creep along one line at halving speed: every difference column lies exactly along the same
