@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <vector>
 
@@ -77,15 +78,28 @@ LoopCounts count(ppcr::Registration* reg, const PointCloud& source) {
   return c;
 }
 
+// A scene of 8000 points and the small motion M the tests' sources are moved by.
+struct Scene {
+  explicit Scene(std::uint64_t seed) : rng(seed), target(core_test::analytic_scene(rng, 8000)) {}
+  core_test::Rng rng;
+  PointCloud target;
+  Eigen::Isometry3d M = core_test::make_pose(Eigen::Vector3d(0.3, 1.0, 0.2), 0.05,
+                                             Eigen::Vector3d(0.03, -0.02, 0.01));
+  // The target moved by M^-1, its first 5000 points.
+  PointCloud source() const {
+    PointCloud s = core_test::transformed(target, M.inverse());
+    s.resize(5000);
+    return s;
+  }
+};
+
 }  // namespace
 
 TEST_CASE("the outer loop allocates nothing once a Registration has run once", "[allocation]") {
-  core_test::Rng rng(181);
-  const PointCloud target = core_test::analytic_scene(rng, 8000);
-  const Eigen::Isometry3d M = core_test::make_pose(Eigen::Vector3d(0.3, 1.0, 0.2), 0.05,
-                                                   Eigen::Vector3d(0.03, -0.02, 0.01));
-  PointCloud source_a = core_test::transformed(target, M.inverse());
-  source_a.resize(5000);
+  const Scene scene(181);
+  const PointCloud& target = scene.target;
+  const Eigen::Isometry3d& M = scene.M;
+  PointCloud source_a = scene.source();
   // A different source of the same size: the same buffers serve it.
   PointCloud source_b = core_test::transformed(target, M);
   source_b.erase(source_b.begin(), source_b.begin() + 3000);
@@ -140,12 +154,9 @@ TEST_CASE("a first run that stops on the coarse level leaves later runs allocati
           "[allocation]") {
   // The degeneracy test sums per block of the table's rows: a run stopped on the coarse level
   // holds half as many, and the next run, on every point, must not grow that buffer.
-  core_test::Rng rng(182);
-  const PointCloud target = core_test::analytic_scene(rng, 8000);
-  const Eigen::Isometry3d M = core_test::make_pose(Eigen::Vector3d(0.3, 1.0, 0.2), 0.05,
-                                                   Eigen::Vector3d(0.03, -0.02, 0.01));
-  PointCloud source = core_test::transformed(target, M.inverse());
-  source.resize(5000);
+  const Scene scene(182);
+  const PointCloud& target = scene.target;
+  const PointCloud source = scene.source();
   for (int threads : {1, 2}) {
     INFO("threads " << threads);
     bool stop = true;
