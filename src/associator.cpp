@@ -1,8 +1,6 @@
 // associator.cpp - see associator.hpp.
 #include "associator.hpp"
 
-#include <algorithm>
-
 #include "thread_pool.hpp"
 
 namespace ppcr {
@@ -37,17 +35,15 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   coarse_points_.resize(n_coarse);
   if (source_normals_ != nullptr) coarse_normals_.resize(n_coarse);
   constexpr std::size_t kBlock = 4096;
-  parallel_for(settings.pool, static_cast<std::ptrdiff_t>((n_coarse + kBlock - 1) / kBlock),
-               [&](std::ptrdiff_t b) {
-                 const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
-                 const std::size_t end = std::min(n_coarse, begin + kBlock);
-                 for (std::size_t i = begin; i < end; ++i) {
-                   coarse_points_[i] = source[i * stride];
-                   if (source_normals_ != nullptr) {
-                     coarse_normals_[i] = (*source_normals_)[i * stride];
-                   }
-                 }
-               });
+  parallel_for_blocks(settings.pool, n_coarse, kBlock,
+                      [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+                        for (std::size_t i = begin; i < end; ++i) {
+                          coarse_points_[i] = source[i * stride];
+                          if (source_normals_ != nullptr) {
+                            coarse_normals_[i] = (*source_normals_)[i * stride];
+                          }
+                        }
+                      });
   table_.resize(n_coarse, k);
   if (use_cache_) cache_.resize(n_coarse, capacity, settings.pool);
 }

@@ -96,9 +96,7 @@ void NeighbourCache::invalidate(const ThreadPool* pool) {
   constexpr std::size_t kBlock = 4096;
   const std::size_t n = bound.size();
   assert(set_radius_sq.size() == n);
-  parallel_for(pool, static_cast<std::ptrdiff_t>((n + kBlock - 1) / kBlock), [&](std::ptrdiff_t b) {
-    const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
-    const std::size_t end = std::min(n, begin + kBlock);
+  parallel_for_blocks(pool, n, kBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
     std::fill(bound.data() + begin, bound.data() + end, -1.0);
     std::fill(set_radius_sq.data() + begin, set_radius_sq.data() + end, -1.0);
   });
@@ -390,26 +388,22 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   constexpr std::size_t kBlock = 1024;
   for (std::size_t hi = coarse; hi > 1;) {
     const std::size_t lo = std::max<std::size_t>(1, (hi + stride - 1) / stride);
-    parallel_for(pool, static_cast<std::ptrdiff_t>((hi - lo + kBlock - 1) / kBlock),
-                 [&](std::ptrdiff_t b) {
-                   const std::size_t begin = lo + static_cast<std::size_t>(b) * kBlock;
-                   const std::size_t end = std::min(hi, begin + kBlock);
-                   for (std::size_t i = begin; i < end; ++i) move_row(i);
-                 });
+    parallel_for_blocks(pool, hi - lo, kBlock,
+                        [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+                          for (std::size_t i = lo + begin; i < lo + end; ++i) move_row(i);
+                        });
     hi = lo;
   }
-  parallel_for(pool, static_cast<std::ptrdiff_t>((points + kBlock - 1) / kBlock),
-               [&](std::ptrdiff_t b) {
-                 const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
-                 const std::size_t end = std::min(points, begin + kBlock);
-                 for (std::size_t j = begin; j < end; ++j) {
-                   // No list: queried by the next call (j / stride < coarse otherwise).
-                   if (j % stride != 0) {
-                     cache->bound[j] = -1.0;
-                     cache->set_radius_sq[j] = -1.0;
-                   }
-                 }
-               });
+  parallel_for_blocks(pool, points, kBlock,
+                      [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+                        for (std::size_t j = begin; j < end; ++j) {
+                          // No list: queried by the next call (j / stride < coarse otherwise).
+                          if (j % stride != 0) {
+                            cache->bound[j] = -1.0;
+                            cache->set_radius_sq[j] = -1.0;
+                          }
+                        }
+                      });
 }
 
 }  // namespace detail

@@ -387,29 +387,29 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
   const std::size_t n = source.size();
   blocks->resize((n + kBlockSize - 1) / kBlockSize);
   // Upper blocks only (top left, top right, bottom right); the bottom left by symmetry below.
-  parallel_for(pool, static_cast<std::ptrdiff_t>(blocks->size()), [&](std::ptrdiff_t b) {
-    Matrix6d H = Matrix6d::Zero();
-    const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
-    const std::size_t end = std::min(n, begin + kBlockSize);
-    for (std::size_t j = begin; j < end; ++j) {
-      const std::size_t slot = j * k;
-      Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
-      for (std::size_t m = 0; m < assoc.count[j]; ++m) {
-        const Eigen::Vector3d& nk = target_points[assoc.index[slot + m]].n;
-        // A target point without a normal constrains all directions (Omega = I).
-        if (nk.squaredNorm() > 0.0) {
-          Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
-        } else {
-          Obar.diagonal().array() += w[slot + m];
-        }
-      }
-      const Eigen::Matrix3d P = se3::skew(T * source[j]);
-      H.topLeftCorner<3, 3>().noalias() -= P * Obar * P;
-      H.topRightCorner<3, 3>().noalias() += P * Obar;
-      H.bottomRightCorner<3, 3>() += Obar;
-    }
-    (*blocks)[static_cast<std::size_t>(b)] = H;
-  });
+  parallel_for_blocks(pool, n, kBlockSize,
+                      [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+                        Matrix6d H = Matrix6d::Zero();
+                        for (std::size_t j = begin; j < end; ++j) {
+                          const std::size_t slot = j * k;
+                          Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
+                          for (std::size_t m = 0; m < assoc.count[j]; ++m) {
+                            const Eigen::Vector3d& nk = target_points[assoc.index[slot + m]].n;
+                            // A target point without a normal constrains all directions (Omega =
+                            // I).
+                            if (nk.squaredNorm() > 0.0) {
+                              Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
+                            } else {
+                              Obar.diagonal().array() += w[slot + m];
+                            }
+                          }
+                          const Eigen::Matrix3d P = se3::skew(T * source[j]);
+                          H.topLeftCorner<3, 3>().noalias() -= P * Obar * P;
+                          H.topRightCorner<3, 3>().noalias() += P * Obar;
+                          H.bottomRightCorner<3, 3>() += Obar;
+                        }
+                        (*blocks)[static_cast<std::size_t>(b)] = H;
+                      });
   Matrix6d H = Matrix6d::Zero();
   for (const Matrix6d& block : *blocks) H += block;
   H.bottomLeftCorner<3, 3>() = H.topRightCorner<3, 3>().transpose();

@@ -16,6 +16,7 @@
 // each Registration owns its pool, whose workers live as long as it does.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -93,6 +94,16 @@ void parallel_for(const ThreadPool* pool, std::ptrdiff_t n, F&& f) {
   } else {
     for (std::ptrdiff_t i = 0; i < n; ++i) f(i);
   }
+}
+
+/// f(b, begin, end) for each block [begin, end) = [b * block, min(n, (b + 1) * block)) of [0, n),
+/// as parallel_for over the blocks.
+template <class F>
+void parallel_for_blocks(const ThreadPool* pool, std::size_t n, std::size_t block, F&& f) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>((n + block - 1) / block), [&](std::ptrdiff_t b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * block;
+    f(b, begin, std::min(n, begin + block));
+  });
 }
 
 }  // namespace detail
