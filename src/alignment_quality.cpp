@@ -58,32 +58,31 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
   const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
   scratch->resize(kSums * n_blocks);
   double* blocks = scratch->data();
-  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    Sums s;
-    const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
-    const std::size_t end = std::min(points.size(), begin + kBlock);
-    bool seeded = false;  // whether `index` holds the previous point's nearest
-    std::uint32_t index = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-      double d_sq;
-      const Eigen::Vector3d p = T * points[i];
-      const double seed_sq =
-          seeded ? seed_bound_sq(p, indexed, &index, 1) : std::numeric_limits<double>::infinity();
-      seeded = seeded_radius_knn(tree, p, 1, seed_sq, radius_sq, &index, &d_sq).found == 1;
-      if (seeded) {
-        s.matched += 1.0;
-        s.dist_sq += d_sq;
-        if (d_sq > near_sq) continue;
-        s.near += 1.0;
-        s.close += surface != nullptr && on_surface(*surface, index, p, d_sq) ? 1.0 : 0.0;
-      }
-    }
-    double* out = blocks + kSums * static_cast<std::size_t>(b);
-    out[0] = s.matched;
-    out[1] = s.near;
-    out[2] = s.close;
-    out[3] = s.dist_sq;
-  });
+  parallel_for_blocks(
+      pool, points.size(), kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+        Sums s;
+        bool seeded = false;  // whether `index` holds the previous point's nearest
+        std::uint32_t index = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+          double d_sq;
+          const Eigen::Vector3d p = T * points[i];
+          const double seed_sq = seeded ? seed_bound_sq(p, indexed, &index, 1)
+                                        : std::numeric_limits<double>::infinity();
+          seeded = seeded_radius_knn(tree, p, 1, seed_sq, radius_sq, &index, &d_sq).found == 1;
+          if (seeded) {
+            s.matched += 1.0;
+            s.dist_sq += d_sq;
+            if (d_sq > near_sq) continue;
+            s.near += 1.0;
+            s.close += surface != nullptr && on_surface(*surface, index, p, d_sq) ? 1.0 : 0.0;
+          }
+        }
+        double* out = blocks + kSums * static_cast<std::size_t>(b);
+        out[0] = s.matched;
+        out[1] = s.near;
+        out[2] = s.close;
+        out[3] = s.dist_sq;
+      });
   Sums total;
   for (std::size_t b = 0; b < n_blocks; ++b) {
     total.matched += blocks[kSums * b];

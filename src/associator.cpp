@@ -21,14 +21,18 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   const int k = settings.k;
   const int capacity = k + settings.cache_extra;
   use_cache_ = settings.cache_extra > 0 && capacity <= NeighbourCache::kMaxCapacity;
-  // Sized for every point first, so that the coarse level's rows grow back without allocating.
-  table_.resize(n, k);
-  // Also forgets the previous source's lists.
-  if (use_cache_) cache_.resize(n, capacity, settings.pool);
   const std::size_t stride = settings.coarse_stride;
   use_coarse_ = stride > 1;
   coarse_associated_ = false;
-  if (!use_coarse_) return;
+  // Sized for every point first, so that the coarse level's rows grow back without allocating.
+  table_.resize(n, k);
+  if (!use_coarse_) {
+    // Also forgets the previous source's lists.
+    if (use_cache_) cache_.resize(n, capacity, settings.pool);
+    return;
+  }
+  // Room for every point, as the table's, but its rows reset once, for the coarse level (below).
+  if (use_cache_) cache_.reserve(n, capacity);
   const std::size_t n_coarse = (n + stride - 1) / stride;
   // Sized without being written (Eigen's vectors are not zeroed), then copied on the threads:
   // their pages' first touch is a page fault (buffer.hpp).

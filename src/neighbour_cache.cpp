@@ -92,6 +92,17 @@ void NeighbourCache::resize(std::size_t source_points, int new_capacity, const T
   invalidate(pool);
 }
 
+void NeighbourCache::reserve(std::size_t source_points, int reserved_capacity) {
+  index.reserve(source_points * static_cast<std::size_t>(reserved_capacity));
+  count.reserve(source_points);
+  query_call.reserve(source_points);
+  bound.reserve(source_points);
+  path.reserve(source_points);
+  seed.reserve(source_points);
+  ranked_call.reserve(source_points);
+  set_radius_sq.reserve(source_points);
+}
+
 void NeighbourCache::invalidate(const ThreadPool* pool) {
   constexpr std::size_t kBlock = 4096;
   const std::size_t n = bound.size();
@@ -337,14 +348,12 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   // to seed its query from may seed it from the block's previous point's list ("Seeded
   // queries").
   constexpr std::size_t kSeedBlock = 64;
-  const std::size_t n_blocks = (source.size() + kSeedBlock - 1) / kSeedBlock;
-  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
-    const std::size_t end = std::min(source.size(), begin + kSeedBlock);
-    for (std::size_t j = begin; j < end; ++j) {
-      associate_point(c, j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
-    }
-  });
+  parallel_for_blocks(
+      pool, source.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+        for (std::size_t j = begin; j < end; ++j) {
+          associate_point(c, j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
+        }
+      });
   cache->table = table;
   cache->table_k = c.k;
   cache->table_radius = radius;

@@ -146,6 +146,9 @@ struct NeighbourCache {
   /// per-point marks are written on the pool's threads (null: the calling thread): a new
   /// buffer's first touch is a page fault (buffer.hpp).
   void resize(std::size_t source_points, int capacity, const ThreadPool* pool = nullptr);
+  /// Reserves room for source_points points of capacity candidates (no write, no reset), so that
+  /// resizing up to that later allocates nothing.
+  void reserve(std::size_t source_points, int capacity);
   /// Forgets every list (the next associate_cached queries every point); on the pool's threads.
   void invalidate(const ThreadPool* pool = nullptr);
 };

@@ -247,7 +247,6 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
                            const ThreadPool* pool, const PlaneModel* plane) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
-  const std::size_t n_blocks = (n + kBlockSize - 1) / kBlockSize;
   const Eigen::Matrix3d R = T.linear();
   const Eigen::Vector3d t = T.translation();
   const PlanePoint* points = kPlane ? plane->points->data() : nullptr;
@@ -262,52 +261,51 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
       kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
   const double epsilon = kPlane ? plane->epsilon : 1.0;
 
-  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    // Without r_sq, a point's squared errors live on the stack (read back within the point); its
-    // pairs' normals in the block's k slots of pair_normals_.
-    double r_local[AssociationTable::kMaxNeighbours];
-    PairNormal* normals_local =
-        kPairNormals ? &pair_normals_[static_cast<std::size_t>(b) * k] : nullptr;
-    BlockSums s;
-    s.S0 = s.cost = s.cost_prev = 0.0;
-    s.S1.setZero();
-    s.ebar.setZero();
-    s.ebar_cross_p.setZero();
-    s.S2.setZero();
-    s.H.setZero();
-    const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
-    const std::size_t end = std::min(n, begin + kBlockSize);
-    for (std::size_t j = begin; j < end; ++j) {
-      const std::size_t count = assoc.count[j];
-      if (count == 0) continue;
-      const std::size_t slot = j * k;
-      const std::uint32_t* idx = &assoc.index[slot];
-      double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
-      double* w = &w_new[slot];
-      const PairNormal* normals = nullptr;
-      if constexpr (kPairNormals) {
-        pair_normals_of_point(R_pair * source_normals[j], idx, count, points, normals_local);
-        normals = normals_local;
-      }
-      const Eigen::Vector3d p = R * source[j] + t;
-      const double r_min =
-          squared_errors<kPlane, kPairNormals>(p, count, idx, target, points, normals, epsilon, r);
-      if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
-        const double* wp = &w_prev[slot];
-        for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
-      }
-      // E-step at this pose (eq. 2-4): w = c * u.
-      const PointWeights pw = e_step(r, r_min, count, w);
-      if constexpr (kPlane && !kPairNormals) {
-        accumulate_plane(p, count, idx, points, information, r, pw.c, w, &s);
-      } else if constexpr (kPlane) {
-        accumulate_pair_normals(p, count, idx, points, normals, epsilon, r, pw.c, w, &s);
-      } else {
-        accumulate_point(p, count, idx, target, r, pw.c, w, &s);
-      }
-    }
-    blocks_[static_cast<std::size_t>(b)] = s;
-  });
+  parallel_for_blocks(
+      pool, n, kBlockSize, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+        // Without r_sq, a point's squared errors live on the stack (read back within the point);
+        // its pairs' normals in the block's k slots of pair_normals_.
+        double r_local[AssociationTable::kMaxNeighbours];
+        PairNormal* normals_local =
+            kPairNormals ? &pair_normals_[static_cast<std::size_t>(b) * k] : nullptr;
+        BlockSums s;
+        s.S0 = s.cost = s.cost_prev = 0.0;
+        s.S1.setZero();
+        s.ebar.setZero();
+        s.ebar_cross_p.setZero();
+        s.S2.setZero();
+        s.H.setZero();
+        for (std::size_t j = begin; j < end; ++j) {
+          const std::size_t count = assoc.count[j];
+          if (count == 0) continue;
+          const std::size_t slot = j * k;
+          const std::uint32_t* idx = &assoc.index[slot];
+          double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
+          double* w = &w_new[slot];
+          const PairNormal* normals = nullptr;
+          if constexpr (kPairNormals) {
+            pair_normals_of_point(R_pair * source_normals[j], idx, count, points, normals_local);
+            normals = normals_local;
+          }
+          const Eigen::Vector3d p = R * source[j] + t;
+          const double r_min = squared_errors<kPlane, kPairNormals>(p, count, idx, target, points,
+                                                                    normals, epsilon, r);
+          if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
+            const double* wp = &w_prev[slot];
+            for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
+          }
+          // E-step at this pose (eq. 2-4): w = c * u.
+          const PointWeights pw = e_step(r, r_min, count, w);
+          if constexpr (kPlane && !kPairNormals) {
+            accumulate_plane(p, count, idx, points, information, r, pw.c, w, &s);
+          } else if constexpr (kPlane) {
+            accumulate_pair_normals(p, count, idx, points, normals, epsilon, r, pw.c, w, &s);
+          } else {
+            accumulate_point(p, count, idx, target, r, pw.c, w, &s);
+          }
+        }
+        blocks_[static_cast<std::size_t>(b)] = s;
+      });
 }
 
 void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,

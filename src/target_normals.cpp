@@ -67,28 +67,26 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   // query can be seeded by its block's previous one (header). The seed changes which cells the
   // search skips, never its result, so neither the blocks nor the threads change the normals.
   constexpr std::size_t kSeedBlock = 64;
-  const std::size_t n_blocks = (order.size() + kSeedBlock - 1) / kSeedBlock;
-  parallel_for(pool, static_cast<std::ptrdiff_t>(n_blocks), [&](std::ptrdiff_t b) {
-    const std::size_t begin = static_cast<std::size_t>(b) * kSeedBlock;
-    const std::size_t end = std::min(order.size(), begin + kSeedBlock);
-    std::uint32_t idx[kMaxNeighbours];
-    double d2[kMaxNeighbours];
-    int found = 0;  // the previous point's neighbours, idx[0..found)
-    for (std::size_t ii = begin; ii < end; ++ii) {
-      const std::uint32_t i = order[ii];
-      const Eigen::Vector3d& q = points[i];
-      // Seeded when the previous point found k: those are k real points, so they bound q's k-th
-      // (seed_bound_sq, kdtree.hpp). Should the bounded query find fewer than k, it is repeated
-      // unbounded (seeded_radius_knn).
-      const double seed_sq = found == k ? seed_bound_sq(q, points, idx, k) : unbounded;
-      found = seeded_radius_knn(tree, q, k, seed_sq, unbounded, idx, d2).found;
-      const NormalFit fit = fit_normal(points, idx, found);
-      (*normals)[i] = fit.normal;
-      if (spread != nullptr) (*spread)[i] = fit.spread;
-      if (reach != nullptr) (*reach)[i] = found > 0 ? std::sqrt(d2[found - 1]) : -1.0;
-      if (nearest_sq != nullptr) (*nearest_sq)[i] = nearest_nonzero_sq(d2, found);
-    }
-  });
+  parallel_for_blocks(
+      pool, order.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+        std::uint32_t idx[kMaxNeighbours];
+        double d2[kMaxNeighbours];
+        int found = 0;  // the previous point's neighbours, idx[0..found)
+        for (std::size_t ii = begin; ii < end; ++ii) {
+          const std::uint32_t i = order[ii];
+          const Eigen::Vector3d& q = points[i];
+          // Seeded when the previous point found k: those are k real points, so they bound q's k-th
+          // (seed_bound_sq, kdtree.hpp). Should the bounded query find fewer than k, it is repeated
+          // unbounded (seeded_radius_knn).
+          const double seed_sq = found == k ? seed_bound_sq(q, points, idx, k) : unbounded;
+          found = seeded_radius_knn(tree, q, k, seed_sq, unbounded, idx, d2).found;
+          const NormalFit fit = fit_normal(points, idx, found);
+          (*normals)[i] = fit.normal;
+          if (spread != nullptr) (*spread)[i] = fit.spread;
+          if (reach != nullptr) (*reach)[i] = found > 0 ? std::sqrt(d2[found - 1]) : -1.0;
+          if (nearest_sq != nullptr) (*nearest_sq)[i] = nearest_nonzero_sq(d2, found);
+        }
+      });
 }
 
 double upper_median(Buffer<double>* values) {
