@@ -171,9 +171,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 /// source (same tree, target, k and radius) fills the table a fresh association would, querying
 /// only where the lists cannot prove the answer (a list-less point's query is bounded by its
 /// previous point's list when that list is long enough, "Seeded queries"). The rows grow within the
-/// vectors' capacity: allocation-free when the cache and table were sized for `points` before being
-/// sized for the coarse level. The cache must hold its last call's lists for `table`. On the pool's
-/// threads (null: the calling thread); the result does not depend on their number.
+/// vectors' capacity: allocation-free when the cache had room reserved for `points` (reserve()) and
+/// the table was sized for them, before both were sized for the coarse level. The cache must hold
+/// its last call's lists for `table`. On the pool's threads (null: the calling thread); the result
+/// does not depend on their number.
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
                   AssociationTable* table, const ThreadPool* pool = nullptr);
 
