@@ -55,7 +55,7 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
                     const Eigen::Isometry3d& T, double radius_sq, double near_sq,
                     const SurfaceTestSq* surface, const ThreadPool* pool,
                     std::vector<double>* scratch) {
-  const std::size_t n_blocks = (points.size() + kBlock - 1) / kBlock;
+  const std::size_t n_blocks = block_count(points.size(), kBlock);
   scratch->resize(kSums * n_blocks);
   double* blocks = scratch->data();
   parallel_for_blocks(

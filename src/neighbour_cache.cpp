@@ -77,30 +77,32 @@ double set_radius_sq(int n, int k, double m, double radius, double outside_min, 
   return rho > 0.0 ? rho * rho : -1.0;
 }
 
+// op(array, length) for each per-point array of the cache, with its length for `points` points of
+// `capacity` candidates: every array that resize, reserve and spread_lists size, in one list.
+template <class Op>
+void for_each_array(NeighbourCache* cache, std::size_t points, std::size_t capacity, Op op) {
+  op(cache->index, points * capacity);
+  op(cache->count, points);
+  op(cache->query_call, points);
+  op(cache->bound, points);
+  op(cache->path, points);
+  op(cache->seed, points);
+  op(cache->ranked_call, points);
+  op(cache->set_radius_sq, points);
+}
+
 }  // namespace
 
 void NeighbourCache::resize(std::size_t source_points, int new_capacity, const ThreadPool* pool) {
   capacity = new_capacity;
-  index.resize(source_points * static_cast<std::size_t>(new_capacity));
-  count.resize(source_points);
-  query_call.resize(source_points);
-  bound.resize(source_points);
-  path.resize(source_points);
-  seed.resize(source_points);
-  ranked_call.resize(source_points);
-  set_radius_sq.resize(source_points);
+  for_each_array(this, source_points, static_cast<std::size_t>(new_capacity),
+                 [](auto& array, std::size_t length) { array.resize(length); });
   invalidate(pool);
 }
 
 void NeighbourCache::reserve(std::size_t source_points, int reserved_capacity) {
-  index.reserve(source_points * static_cast<std::size_t>(reserved_capacity));
-  count.reserve(source_points);
-  query_call.reserve(source_points);
-  bound.reserve(source_points);
-  path.reserve(source_points);
-  seed.reserve(source_points);
-  ranked_call.reserve(source_points);
-  set_radius_sq.reserve(source_points);
+  for_each_array(this, source_points, static_cast<std::size_t>(reserved_capacity),
+                 [](auto& array, std::size_t length) { array.reserve(length); });
 }
 
 void NeighbourCache::invalidate(const ThreadPool* pool) {
@@ -369,14 +371,8 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   const std::size_t capacity = static_cast<std::size_t>(cache->capacity);
   const std::size_t k = static_cast<std::size_t>(table->k);
   // Grow (vector::resize keeps the rows held), then move row i to i * stride (below).
-  cache->index.resize(points * capacity);
-  cache->count.resize(points);
-  cache->query_call.resize(points);
-  cache->bound.resize(points);
-  cache->path.resize(points);
-  cache->seed.resize(points);
-  cache->ranked_call.resize(points);
-  cache->set_radius_sq.resize(points);
+  for_each_array(cache, points, capacity,
+                 [](auto& array, std::size_t length) { array.resize(length); });
   table->resize(points, table->k);
   auto move_row = [&](std::size_t i) {
     const std::size_t j = i * stride;

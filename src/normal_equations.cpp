@@ -93,7 +93,7 @@ void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector
 }
 
 void NormalEquations::resize(std::size_t source_points, int k) {
-  blocks_.resize((source_points + kBlockSize - 1) / kBlockSize);
+  blocks_.resize(block_count(source_points, kBlockSize));
   pair_normals_.resize(blocks_.size() * static_cast<std::size_t>(k));
 }
 
@@ -342,7 +342,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                             });
 
   // Ordered reduction over blocks: independent of the thread count.
-  const std::size_t n_blocks = (source.size() + kBlockSize - 1) / kBlockSize;
+  const std::size_t n_blocks = block_count(source.size(), kBlockSize);
   double S0 = 0.0, cost = 0.0, cost_prev = 0.0;
   Eigen::Vector3d S1 = Eigen::Vector3d::Zero(), ebar = Eigen::Vector3d::Zero(),
                   ebar_cross_p = Eigen::Vector3d::Zero();
@@ -383,7 +383,7 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
                                              std::vector<Matrix6d>* blocks) {
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const std::size_t n = source.size();
-  blocks->resize((n + kBlockSize - 1) / kBlockSize);
+  blocks->resize(block_count(n, kBlockSize));
   // Upper blocks only (top left, top right, bottom right); the bottom left by symmetry below.
   parallel_for_blocks(pool, n, kBlockSize,
                       [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
@@ -393,8 +393,7 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
                           Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
                           for (std::size_t m = 0; m < assoc.count[j]; ++m) {
                             const Eigen::Vector3d& nk = target_points[assoc.index[slot + m]].n;
-                            // A target point without a normal constrains all directions (Omega =
-                            // I).
+                            // No normal: every direction constrained (Omega = I).
                             if (nk.squaredNorm() > 0.0) {
                               Obar.noalias() += (w[slot + m] * nk) * nk.transpose();
                             } else {

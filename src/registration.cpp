@@ -397,8 +397,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   lm.resize(n, o.max_neighbours);
   // For every point, also when a run that ends on the coarse level came first (allocation-free
   // after the first call).
-  information_blocks.reserve((n + detail::NormalEquations::kBlockSize - 1) /
-                             detail::NormalEquations::kBlockSize);
+  information_blocks.reserve(detail::block_count(n, detail::NormalEquations::kBlockSize));
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
   const CloudMoments moments = compute_moments(source.centered);
   const double source_rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));

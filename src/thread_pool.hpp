@@ -96,11 +96,14 @@ void parallel_for(const ThreadPool* pool, std::ptrdiff_t n, F&& f) {
   }
 }
 
+/// The blocks of `block` items that [0, n) splits into (the last one may be shorter).
+inline std::size_t block_count(std::size_t n, std::size_t block) { return (n + block - 1) / block; }
+
 /// f(b, begin, end) for each block [begin, end) = [b * block, min(n, (b + 1) * block)) of [0, n),
-/// as parallel_for over the blocks.
+/// as parallel_for over the block_count(n, block) blocks.
 template <class F>
 void parallel_for_blocks(const ThreadPool* pool, std::size_t n, std::size_t block, F&& f) {
-  parallel_for(pool, static_cast<std::ptrdiff_t>((n + block - 1) / block), [&](std::ptrdiff_t b) {
+  parallel_for(pool, static_cast<std::ptrdiff_t>(block_count(n, block)), [&](std::ptrdiff_t b) {
     const std::size_t begin = static_cast<std::size_t>(b) * block;
     f(b, begin, std::min(n, begin + block));
   });
