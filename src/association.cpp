@@ -13,14 +13,21 @@ void AssociationTable::resize(std::size_t source_points, int neighbours) {
   k = neighbours;
   index.resize(source_points * static_cast<std::size_t>(neighbours));
   count.resize(source_points);
-  pairs = matched = 0;
+  left_out.resize(source_points);
+  any_left_out = false;
+  pairs = matched = left_out_pairs = left_out_rows = 0;
 }
 
 void AssociationTable::recount() {
-  pairs = matched = 0;
-  for (std::uint16_t c : count) {
-    pairs += c;
-    matched += (c > 0);
+  pairs = matched = left_out_pairs = left_out_rows = 0;
+  for (std::size_t j = 0; j < count.size(); ++j) {
+    if (any_left_out && left_out[j] != 0) {
+      left_out_pairs += count[j];
+      ++left_out_rows;
+    } else {
+      pairs += count[j];
+      matched += (count[j] > 0);
+    }
   }
 }
 

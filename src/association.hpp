@@ -26,14 +26,24 @@ struct AssociationTable {
   int k = 0;
   Buffer<std::uint32_t> index;       // written by each association before it is read
   std::vector<std::uint16_t> count;  // k <= kMaxNeighbours fits in 16 bits
-  std::size_t pairs = 0;             // sum of count
-  std::size_t matched = 0;           // source points with count > 0
+  // Rows left out of the solve (Associator::find: beyond the target's boundary, boundary.hpp):
+  // left_out[j] != 0 while any_left_out. A left-out row keeps its slots and count (the neighbour
+  // cache's state), but pairs and matched do not count it and the passes skip it.
+  std::vector<std::uint8_t> left_out;
+  bool any_left_out = false;
+  std::size_t pairs = 0;    // sum of count over the rows used
+  std::size_t matched = 0;  // rows used with count > 0
+  // The rows left out (each with count > 0) and their pairs: with pairs and matched, every row's.
+  std::size_t left_out_pairs = 0;
+  std::size_t left_out_rows = 0;
 
   static constexpr int kMaxNeighbours = 1024;
 
   void resize(std::size_t source_points, int neighbours);
-  /// Sets pairs and matched from count (integer sums: exact in any order).
+  /// Sets pairs and matched from count and left_out (integer sums: exact in any order).
   void recount();
+  /// Whether row j is used: it has pairs and is not left out.
+  bool used(std::size_t j) const { return count[j] > 0 && !(any_left_out && left_out[j] != 0); }
 };
 
 /// Fills table for the source points moved by T_target_source (both in the frames the tree and

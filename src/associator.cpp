@@ -7,9 +7,11 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-void Associator::set_target(const KdTree* tree, const PointCloud* target) {
+void Associator::set_target(const KdTree* tree, const PointCloud* target,
+                            const std::uint8_t* boundary) {
   tree_ = tree;
   target_ = target;
+  boundary_ = boundary;
 }
 
 void Associator::prepare(const Settings& settings, const PointCloud& source,
@@ -52,21 +54,38 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   if (use_cache_) cache_.resize(n_coarse, capacity, settings.pool);
 }
 
-void Associator::find(bool coarse, const Eigen::Isometry3d& T) {
+void Associator::find(bool coarse, const Eigen::Isometry3d& T, bool leave_out_boundary) {
   coarse = coarse && use_coarse_;
+  table_.any_left_out = false;  // before the association's own count of pairs
   associate(coarse, T);
   if (coarse && table_.pairs == 0) associate(false, T);
   // Once every point is associated the coarse level is gone: its rows were spread over every
   // point, whose lists the cache now holds.
   if (!coarse_associated_) use_coarse_ = false;
+  if (leave_out_boundary && boundary_ != nullptr) leave_out_boundary_rows();
 }
 
-bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start) {
-  find(coarse, *T_start);
+bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start,
+                           bool leave_out_boundary) {
+  find(coarse, *T_start, leave_out_boundary);
   if (table_.pairs > 0 || T_start->matrix() == T.matrix()) return false;
   *T_start = T;
-  find(coarse, T);
+  find(coarse, T, leave_out_boundary);
   return true;
+}
+
+void Associator::leave_out_boundary_rows() {
+  const std::size_t k = static_cast<std::size_t>(table_.k);
+  std::size_t left = 0;
+  for (std::size_t j = 0; j < table_.count.size(); ++j) {
+    // Slot 0 holds the row's nearest target point (AssociationTable).
+    const bool out = table_.count[j] > 0 && boundary_[table_.index[j * k]] != 0;
+    table_.left_out[j] = out;
+    left += out;
+  }
+  if (left == 0 || 2 * left > table_.matched) return;
+  table_.any_left_out = true;
+  table_.recount();
 }
 
 void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {

@@ -11,10 +11,13 @@
 //    level's lists over every point.
 // With the plane model and source normals it also records what each pair's normal is formed from
 // (the rows' source normals and the association's rotation: PairNormalSource, pair_normals.hpp).
+// When asked, it leaves out the rows whose nearest target point lies on the target's boundary
+// (boundary.hpp; AssociationTable::left_out).
 #pragma once
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "association.hpp"
@@ -40,8 +43,10 @@ class Associator {
     const ThreadPool* pool = nullptr;  // null: the calling thread alone
   };
 
-  /// The target side, kept by pointer until the next call.
-  void set_target(const KdTree* tree, const PointCloud* target);
+  /// The target side, kept by pointer until the next call. boundary: one flag per target point
+  /// (compute_normals, target_normals.hpp), or null: no row is ever left out.
+  void set_target(const KdTree* tree, const PointCloud* target,
+                  const std::uint8_t* boundary = nullptr);
 
   /// Set-up for one source (allocates; reuses buffers of an equal-size source). source_normals:
   /// one per source point, or null for no pair normals.
@@ -52,12 +57,13 @@ class Associator {
   /// point. A coarse level that finds no pair is dropped (its points may miss a small overlap that
   /// others reach) and every point is associated instead; once every point has been associated,
   /// the coarse level is gone for the rest of the run, whatever `coarse` asks.
-  /// Allocation-free.
-  void find(bool coarse, const Eigen::Isometry3d& T);
+  /// With leave_out_boundary, then leave_out_boundary_rows(). Allocation-free.
+  void find(bool coarse, const Eigen::Isometry3d& T, bool leave_out_boundary = false);
   /// find() at *T_start; when that finds no pair and *T_start is not T, find() at T, with
   /// *T_start set to T (a start extrapolated beyond every target point falls back to the last
   /// solved pose). Returns whether it fell back. Allocation-free.
-  bool find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start);
+  bool find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start,
+                 bool leave_out_boundary = false);
 
   bool has_coarse_level() const { return use_coarse_; }
   /// The table holds the coarse level's rows.
@@ -74,9 +80,14 @@ class Associator {
 
  private:
   void associate(bool coarse, const Eigen::Isometry3d& T);
+  // Leaves out the rows whose nearest target point lies on the target's boundary, unless that
+  // would leave out more than half of the matched rows: a target made mostly of boundary points
+  // (a strip, a sparse cloud) has no interior to prefer, and its pairs are all there is.
+  void leave_out_boundary_rows();
 
   const KdTree* tree_ = nullptr;
   const PointCloud* target_ = nullptr;
+  const std::uint8_t* boundary_ = nullptr;
   const PointCloud* source_ = nullptr;
   const std::vector<Eigen::Vector3d>* source_normals_ = nullptr;
   Settings settings_;

@@ -1,6 +1,7 @@
 // normal_equations.cpp - fused residuals / weights / normal equations pass (see header).
 #include "normal_equations.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstdint>
 #include <limits>
@@ -260,6 +261,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const Eigen::Matrix3d R_pair =
       kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
   const double epsilon = kPlane ? plane->epsilon : 1.0;
+  const std::uint8_t* left_out = assoc.any_left_out ? assoc.left_out.data() : nullptr;
 
   parallel_for_blocks(
       pool, n, kBlockSize, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
@@ -282,6 +284,10 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
           const std::uint32_t* idx = &assoc.index[slot];
           double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
           double* w = &w_new[slot];
+          if (left_out != nullptr && left_out[j] != 0) {  // not in the solve: weight 0
+            std::fill_n(w, count, 0.0);
+            continue;
+          }
           const PairNormal* normals = nullptr;
           if constexpr (kPairNormals) {
             pair_normals_of_point(R_pair * source_normals[j], idx, count, points, normals_local);
@@ -391,6 +397,7 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
                         for (std::size_t j = begin; j < end; ++j) {
                           const std::size_t slot = j * k;
                           Eigen::Matrix3d Obar = Eigen::Matrix3d::Zero();
+                          if (!assoc.used(j)) continue;
                           for (std::size_t m = 0; m < assoc.count[j]; ++m) {
                             const Eigen::Vector3d& nk = target_points[assoc.index[slot + m]].n;
                             // No normal: every direction constrained (Omega = I).

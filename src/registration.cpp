@@ -126,8 +126,10 @@ struct Registration::Impl {
   Status target_status;  // the last set_target()'s or set_target_to_source()'s, for align()
   detail::PreparedCloud target;
   detail::KdTree tree;
-  // Plane model only: the target's points and normals.
+  // Plane model only: the target's points and normals, and which points lie on its boundary
+  // (boundary.hpp; with expert.reject_boundary).
   detail::Buffer<detail::PlanePoint> target_plane_points;
+  detail::Buffer<std::uint8_t> target_boundary;
   detail::Buffer<detail::PlaneInformation> target_plane_information;  // without pair normals
   // The target's spacing, and with the plane model its surface noise and the normal fits' typical
   // reach (target_normals.hpp); internal unit.
@@ -138,6 +140,7 @@ struct Registration::Impl {
   detail::PreparedCloud source;
   detail::KdTree source_tree;
   std::vector<Eigen::Vector3d> source_normals;
+  detail::Buffer<std::uint8_t> source_boundary;
   SurfaceFits source_fits;  // with pair_normals(), for set_target_to_source()
   // `source` (with pair_normals(): source_tree, source_normals, source_fits) prepared in full by
   // the last align(), not yet made the target.
@@ -157,7 +160,8 @@ struct Registration::Impl {
   // Plane model with source normals: pairs use both clouds' normals (pair_normals.hpp).
   bool pair_normals() const { return plane_model() && options.expert.source_normals; }
   SurfaceFits fit_surface(const PointCloud& cloud, const detail::KdTree& index,
-                          std::vector<Eigen::Vector3d>* normals) const;
+                          std::vector<Eigen::Vector3d>* normals,
+                          detail::Buffer<std::uint8_t>* boundary) const;
   Status make_target(const PointCloud& cloud, double voxel);
   void order(detail::PreparedCloud* cloud);
   Status take_source();
@@ -233,6 +237,7 @@ Status Registration::Impl::take_source() {
   std::swap(target, source);
   if (!pair_normals()) return index_target();  // align() fitted no source normals
   std::swap(tree, source_tree);
+  std::swap(target_boundary, source_boundary);
   return adopt_target(source_fits, source_normals);
 }
 
@@ -260,20 +265,25 @@ Status Registration::Impl::index_target() {
   const Status s = tree.build(target.centered, &pool);
   if (!s.ok()) return s;
   std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
-  return adopt_target(fit_surface(target.centered, tree, plane_model() ? &normals : nullptr),
-                      normals);
+  return adopt_target(
+      fit_surface(target.centered, tree, plane_model() ? &normals : nullptr, &target_boundary),
+      normals);
 }
 
 // The plane fit of each point of `cloud` (internal frame, `index` built over it) into *normals
-// (no fits when null), summarised: the medians of the fits, and the spacing from the fits'
-// nearest neighbours when compute_normals kept them, otherwise from queries of `index`. The
+// (no fits when null), with expert.reject_boundary its boundary points into *boundary (else
+// emptied), summarised: the medians of the fits, and the spacing from the fits' nearest
+// neighbours when compute_normals kept them, otherwise from queries of `index`. The other
 // per-point statistics are freed, not kept.
 SurfaceFits Registration::Impl::fit_surface(const PointCloud& cloud, const detail::KdTree& index,
-                                            std::vector<Eigen::Vector3d>* normals) const {
+                                            std::vector<Eigen::Vector3d>* normals,
+                                            detail::Buffer<std::uint8_t>* boundary) const {
   detail::Buffer<double> spread, reach, nearest_sq;
+  const bool boundaries = normals != nullptr && options.expert.reject_boundary;
+  if (!boundaries) boundary->clear();
   if (normals != nullptr) {
     detail::compute_normals(cloud, index, options.expert.normal_neighbours, &pool, normals, &spread,
-                            &reach, &nearest_sq);
+                            &reach, &nearest_sq, boundaries ? boundary : nullptr);
   }
   std::vector<double> scratch;  // the spacing's samples
   SurfaceFits summary;
@@ -307,7 +317,8 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
     plane.information = information;
     plane.epsilon = solver.expert.plane_epsilon;
   }
-  associator.set_target(&tree, &target.centered);
+  associator.set_target(&tree, &target.centered,
+                        target_boundary.empty() ? nullptr : target_boundary.data());
   has_target = true;
   return Status::Ok();
 }
@@ -345,7 +356,7 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
     s = source_tree.build(source.centered, &pool);
     if (!s.ok()) return s;
     // With the fits' medians, so that set_target_to_source() can make this source the target.
-    source_fits = fit_surface(source.centered, source_tree, &source_normals);
+    source_fits = fit_surface(source.centered, source_tree, &source_normals, &source_boundary);
   }
   has_source = true;
   return Status::Ok();
@@ -423,7 +434,11 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
 const detail::AssociationTable& Registration::Impl::associate(Run* run, bool coarse,
                                                               const Eigen::Isometry3d& T,
                                                               Eigen::Isometry3d* T_start) {
-  if (associator.find_from(coarse, T, T_start)) run->acceleration.reset();
+  // Rows beyond the target's boundary are left out once the coarse phase has brought the clouds
+  // together: before, an edge's pairs are part of what pulls the source into place (measured:
+  // docs/BENCHMARK.md, "Rows beyond the target's boundary").
+  const bool leave_out_boundary = !run->scale.coarse();
+  if (associator.find_from(coarse, T, T_start, leave_out_boundary)) run->acceleration.reset();
   return associator.table();
 }
 
@@ -486,8 +501,9 @@ RegistrationResult Registration::Impl::iterate(const Eigen::Isometry3d& T_initia
     // The coarse level while the EM scale settles (coarse, or shrinking at its limit); the
     // associator never returns to it once it has associated every point.
     const detail::AssociationTable& pairs = associate(&run, run.scale.settling(), T, &T_next);
-    result.matched_source_points = pairs.matched;
-    result.correspondences = pairs.pairs;
+    // Every row with pairs, the rows left out beyond the target's boundary too.
+    result.matched_source_points = pairs.matched + pairs.left_out_rows;
+    result.correspondences = pairs.pairs + pairs.left_out_pairs;
     if (pairs.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
       if (t == 1) result.status = no_pairs(T_initial);
@@ -545,8 +561,9 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
   r.cost_drop = run.monitor.last_cost_drop();
   r.mse_prev = run.frame.area(run.monitor.last_mse_prev());
   r.scale = run.frame.length(std::sqrt(scale_sq));
-  r.correspondences = associator.table().pairs;
-  r.matched_source_points = associator.table().matched;
+  const detail::AssociationTable& table = associator.table();
+  r.correspondences = table.pairs + table.left_out_pairs;
+  r.matched_source_points = table.matched + table.left_out_rows;
   r.T_target_source = T_target_source;
   r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return r;

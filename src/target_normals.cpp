@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "boundary.hpp"
 #include "point_spacing.hpp"
 #include "thread_pool.hpp"
 
@@ -45,12 +46,14 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
                      const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
-                     Buffer<double>* spread, Buffer<double>* reach, Buffer<double>* nearest_sq) {
+                     Buffer<double>* spread, Buffer<double>* reach, Buffer<double>* nearest_sq,
+                     Buffer<std::uint8_t>* boundary) {
   // Sized, not filled: the loop writes every entry (each point is in the leaf order once), so
   // that each thread touches its own part of the arrays first (buffer.hpp).
   normals->resize(points.size());
   if (spread != nullptr) spread->resize(points.size());
   if (reach != nullptr) reach->resize(points.size());
+  if (boundary != nullptr) boundary->resize(points.size());
   constexpr int kMaxNeighbours = 64;
   const int k = std::min(neighbours, kMaxNeighbours);
   // Fewer neighbours than a spacing query asks for may miss the nearest non-duplicate: none kept.
@@ -85,6 +88,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
           if (spread != nullptr) (*spread)[i] = fit.spread;
           if (reach != nullptr) (*reach)[i] = found > 0 ? std::sqrt(d2[found - 1]) : -1.0;
           if (nearest_sq != nullptr) (*nearest_sq)[i] = nearest_nonzero_sq(d2, found);
+          if (boundary != nullptr) (*boundary)[i] = on_boundary(points, q, fit.normal, idx, found);
         }
       });
 }

@@ -46,10 +46,13 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// If nearest_sq is not null, nearest_sq[i] = nearest_nonzero_sq() of those neighbours
 /// (point_spacing.hpp: what a spacing query would find) when k >= kSpacingNeighbours; with fewer
 /// neighbours nearest_sq is left empty (they may not reach past a point's duplicates).
+/// If boundary is not null, boundary[i] = 1 where points[i] lies on the cloud's boundary by those
+/// neighbours and its normal (on_boundary(), boundary.hpp), else 0.
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
                      const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
                      Buffer<double>* spread = nullptr, Buffer<double>* reach = nullptr,
-                     Buffer<double>* nearest_sq = nullptr);
+                     Buffer<double>* nearest_sq = nullptr,
+                     Buffer<std::uint8_t>* boundary = nullptr);
 
 /// The upper median of the values >= 0 (a value of the data), or 0 when there is none: of the
 /// spreads written by compute_normals, the cloud's surface noise; of the reaches, its typical

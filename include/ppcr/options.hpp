@@ -69,13 +69,16 @@ struct ExpertOptions {
   int normal_neighbours = 20;   // target (and source) points per PCA normal fit, [5, 64]
   double plane_epsilon = 0.05;  // in-plane weight epsilon of Omega, (0, 1]
   bool source_normals = true;   // pairs use the mean of both clouds' normals (GICP-like)
+  bool reject_boundary = true;  // after the kEM coarse phase (from the first iteration with
+                                // other scale modes), leave out the source points whose nearest
+                                // target point lies on the target's boundary (docs/BENCHMARK.md)
   double noise_floor = 0.8;     // kEM: floor s at this multiple of the target's surface noise
                                 // (RegistrationResult::target_surface_noise); >= 0, 0 = none
 
   // Termination (docs/TERMINATION.md).
   int fixed_iterations = 100;          // kCriterionFixed: stop at this iteration (>= 1)
   double cost_drop_threshold = 0.01;   // kCriterionCostDrop: low drop, fraction (paper: 1 %), >= 0
-  int cost_drop_patience = 6;          // kCriterionCostDrop: low iterations tolerated (paper: 10)
+  int cost_drop_patience = 4;          // kCriterionCostDrop: low iterations tolerated (paper: 10)
   double cost_drop_max_motion = 0.03;  // kCriterionCostDrop: a low iteration must also move the
                                        // source by less than this fraction of the radius (RMS);
                                        // 0 = the paper's rule

@@ -2,7 +2,9 @@
 // cache and with the coarse level (both speed measures) its tables equal a brute-force
 // radius-limited kNN of every associated point, and the plain path's, pose after pose.
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "association_reference.hpp"
 #include "associator.hpp"
@@ -132,5 +134,71 @@ TEST_CASE("Associator: a start beyond every target point falls back to the solve
     Eigen::Isometry3d at = away;
     CHECK_FALSE(a.find_from(false, away, &at));
     CHECK(a.table().pairs == 0);
+  }
+}
+
+TEST_CASE("Associator: rows whose nearest target point is flagged are left out, slots kept",
+          "[associator]") {
+  // Flags on every fifth target point (the registration's are the target's boundary points,
+  // boundary.hpp; the associator only reads them). While asked, a row is left out when its
+  // nearest target point (brute force's) is flagged; its slots stay those of brute force (the
+  // cache's state), pairs and matched count the rows used. When more than half of the matched
+  // rows would go, none does.
+  Fixture f;
+  const double radius = 0.15;
+  std::vector<std::uint8_t> every_fifth(f.target.size()), all(f.target.size(), 1);
+  for (std::size_t i = 0; i < f.target.size(); i += 5) every_fifth[i] = 1;
+  for (int cache_extra : {0, 4}) {
+    for (std::size_t stride : {std::size_t{1}, std::size_t{3}}) {
+      INFO("cache_extra " << cache_extra << ", stride " << stride);
+      Associator a;
+      a.set_target(&f.tree, &f.target, every_fifth.data());
+      a.prepare(Associator::Settings{5, radius, cache_extra, stride, nullptr}, f.source, nullptr);
+      for (int step = 0; step < 8; ++step) {
+        const bool coarse = step < 4;
+        const bool leave_out = step % 3 != 0;  // asked, then not, then asked again
+        const Eigen::Isometry3d T = pose(step);
+        a.find(coarse, T, leave_out);
+        INFO("step " << step);
+        const ppcr::detail::AssociationTable& t = a.table();
+        // The slots, every row counted: brute force's.
+        ppcr::detail::AssociationTable whole = t;
+        whole.any_left_out = false;
+        whole.recount();
+        CHECK(core_test::table_mismatch(whole, a.points(), f.target, T, radius * radius) == "");
+        CHECK(t.any_left_out == leave_out);
+        std::size_t pairs = 0, matched = 0, left = 0;
+        for (std::size_t j = 0; j < t.count.size(); ++j) {
+          if (t.count[j] == 0) continue;
+          // Brute force's nearest: the closest target point to the moved source point.
+          const Eigen::Vector3d p = T * a.points()[j];
+          std::size_t nearest = 0;
+          for (std::size_t i = 1; i < f.target.size(); ++i) {
+            if ((f.target[i] - p).squaredNorm() < (f.target[nearest] - p).squaredNorm()) {
+              nearest = i;
+            }
+          }
+          const bool out = leave_out && every_fifth[nearest] != 0;
+          CHECK(t.used(j) == !out);
+          left += out;
+          if (!out) {
+            pairs += t.count[j];
+            ++matched;
+          }
+        }
+        CHECK(t.pairs == pairs);
+        CHECK(t.matched == matched);
+        CHECK(t.left_out_rows == left);
+        CHECK(t.pairs + t.left_out_pairs == whole.pairs);
+        if (leave_out) CHECK(left > 0);
+      }
+      // Every target point flagged: more than half would go, so none does.
+      a.set_target(&f.tree, &f.target, all.data());
+      a.find(false, pose(8), true);
+      CHECK_FALSE(a.table().any_left_out);
+      CHECK(a.table().matched > 0);
+      CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, pose(8), radius * radius) ==
+            "");
+    }
   }
 }

@@ -196,6 +196,29 @@ struct PackedPlane {
   ppcr::detail::PlaneModel model;
 };
 
+// A problem's three models of the pass (point, plane, plane with pair normals: the point model
+// is null) and random previous weights, for the tests that compare passes under every model:
+// target normals from `seed`, source normals from seed + 1, weights from seed + 2.
+struct EveryModel {
+  EveryModel(const Problem& pb, std::uint64_t seed)
+      : packed(pb, seed, 0.05),
+        packed_pairs(pb, seed, 0.05),
+        source_normals(random_normals(pb.source.size(), seed + 1)),
+        pair_source{&source_normals, pair_rotation()} {
+    packed_pairs.model.pair_source = &pair_source;
+    Rng rng(seed + 2);
+    w_prev.resize(pb.source.size() * static_cast<std::size_t>(pb.assoc.k));
+    for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
+  }
+  std::vector<const ppcr::detail::PlaneModel*> models() const {
+    return {nullptr, &packed.model, &packed_pairs.model};
+  }
+  PackedPlane packed, packed_pairs;
+  std::vector<Eigen::Vector3d> source_normals;
+  ppcr::detail::PairNormalSource pair_source;
+  std::vector<double> w_prev;
+};
+
 struct Output {
   Evaluation eval;
   std::vector<double> w, r_sq;
@@ -401,6 +424,63 @@ TEST_CASE("points without neighbours contribute nothing, no pairs gives zeros",
   CHECK(rel_diff(one.eval.g, ref.g) < 1e-14);
 }
 
+TEST_CASE("rows left out (AssociationTable::left_out) are as rows without pairs, weights 0",
+          "[normal_equations]") {
+  // Every third matched row left out, as the associator leaves out rows beyond the target's
+  // boundary: the sums equal, to the bit, those of the same table with those rows emptied; the
+  // rows' weights are 0; normal_information skips them too. Every model, both thread counts.
+  const int k = 6;
+  const Problem pb = make_problem(91, 3000, k, 0.08);
+  Problem emptied = pb;
+  Problem left = pb;
+  std::size_t out = 0;
+  for (std::size_t j = 0; j < pb.source.size(); ++j) {
+    const bool leave = pb.assoc.count[j] > 0 && j % 3 == 0;
+    left.assoc.left_out[j] = leave;
+    if (leave) emptied.assoc.count[j] = 0;
+    out += leave;
+  }
+  REQUIRE(out > 500);
+  left.assoc.any_left_out = true;
+  left.assoc.recount();
+  emptied.assoc.recount();
+  CHECK(left.assoc.pairs == emptied.assoc.pairs);
+  CHECK(left.assoc.matched == emptied.assoc.matched);
+  CHECK(left.assoc.matched + out == pb.assoc.matched);
+  const EveryModel every(pb, 92);
+  const std::vector<double>& w_prev = every.w_prev;
+  const WeightParams wp;
+  for (const ppcr::detail::PlaneModel* model : every.models()) {
+    for (int threads : {1, 2}) {
+      INFO("plane " << (model != nullptr) << " pair normals "
+                    << (model != nullptr && model->pair_source != nullptr) << " threads "
+                    << threads);
+      const Output a = run(left, wp, pb.T, w_prev.data(), threads, model);
+      const Output b = run(emptied, wp, pb.T, w_prev.data(), threads, model);
+      CHECK(a.eval.H == b.eval.H);
+      CHECK(a.eval.g == b.eval.g);
+      CHECK(a.eval.cost == b.eval.cost);
+      CHECK(a.eval.cost_prev_weights == b.eval.cost_prev_weights);
+      CHECK(a.eval.weight_sum == b.eval.weight_sum);
+      std::size_t nonzero = 0;
+      for (std::size_t j = 0; j < pb.source.size(); ++j) {
+        for (std::size_t m = 0; m < pb.assoc.count[j]; ++m) {
+          if (left.assoc.left_out[j]) nonzero += a.w[j * k + m] != 0.0;
+        }
+      }
+      CHECK(nonzero == 0);
+      if (model != nullptr) {
+        std::vector<Matrix6d> blocks;
+        const ppcr::detail::Buffer<ppcr::detail::PlanePoint>& points = every.packed.points;
+        CHECK(NormalEquations::normal_information(pb.source, left.assoc, pb.T, a.w.data(), points,
+                                                  core_test::pool(threads), &blocks) ==
+              NormalEquations::normal_information(pb.source, emptied.assoc, pb.T, b.w.data(),
+                                                  points, core_test::pool(threads), &blocks));
+      }
+    }
+  }
+}
+
 TEST_CASE("evaluate is bit-identical with 1 and 2 threads (~10k points, blocks of 256)",
           "[normal_equations]") {
   const Problem pb = make_problem(59, 10000, 10, 0.08);
@@ -457,22 +537,15 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
   // r >= 0.05 x 9.9^2 even along a plane).
   const int k = 10;
   const Problem pb = make_problem(75, 3000, k, 0.08);
-  PackedPlane packed(pb, 76, 0.05);
-  PackedPlane packed_pairs(pb, 76, 0.05);
-  const std::vector<Eigen::Vector3d> source_normals = random_normals(pb.source.size(), 77);
-  const ppcr::detail::PairNormalSource pair_source{&source_normals, pair_rotation()};
-  packed_pairs.model.pair_source = &pair_source;
-  Rng rng(78);
-  std::vector<double> w_prev(pb.source.size() * k);
-  for (double& w : w_prev) w = core_test::uniform(rng, 0.0, 1.0);
+  const EveryModel every(pb, 76);
+  const std::vector<double>& w_prev = every.w_prev;
   std::vector<WeightParams> params = weight_params();
   params.push_back({ppcr::WeightModel::kStudentT, 2.3, 1.0 / (0.05 * 0.05)});
   params.push_back({ppcr::WeightModel::kStudentT, 5.0, 1e308});
   params.push_back({ppcr::WeightModel::kGaussian, 5.0, 1e308});
   Eigen::Isometry3d T_far = pb.T;
   T_far.pretranslate(Eigen::Vector3d(10.0, 0.0, 0.0));
-  for (const ppcr::detail::PlaneModel* model :
-       {static_cast<ppcr::detail::PlaneModel*>(nullptr), &packed.model, &packed_pairs.model}) {
+  for (const ppcr::detail::PlaneModel* model : every.models()) {
     for (const WeightParams& wp : params) {
       const Eigen::Isometry3d& T = wp.inv_scale_sq > 1e300 ? T_far : pb.T;
       for (int threads : {1, 2}) {

@@ -628,16 +628,21 @@ TEST_CASE("identical source and target from identity stay at identity", "[regist
     CHECK(r.converged());
     CHECK((r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 1e-7);
   }
-  SECTION("defaults: the noise floor keeps the other neighbours' pull, below 1e-6 of the scene") {
+  SECTION("defaults: the noise floor keeps the other neighbours' pull, below 3e-6 of the scene") {
     // The scale stops at 0.8 x the surface noise, so identity stays off by the asymmetric
-    // posteriors' pull (measured 8e-7 on this 2 m scene).
+    // posteriors' pull: measured 3.1e-6 on this 2 m scene, 8e-7 with the rows beyond the
+    // target's boundary kept (the scene's edges then pull both ways).
     const RegistrationOptions o = scene_options();
     const RegistrationResult r = ppcr::align(sc.target, sc.target, o);
     INFO(describe(r)
          << " deviation "
          << (r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff());
     CHECK(r.converged());
-    CHECK((r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 2e-6);
+    CHECK((r.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 6e-6);
+    RegistrationOptions kept = o;
+    kept.expert.reject_boundary = false;
+    const RegistrationResult k = ppcr::align(sc.target, sc.target, kept);
+    CHECK((k.T_target_source.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 2e-6);
   }
 }
 
@@ -1671,8 +1676,9 @@ TEST_CASE("a target covering 86 % or more of its source: registered to the truth
 // weakly curved surface"): with the target covering 78 % of the source (x <= 0.2; the share of
 // source points with a target point within the radius at the truth) the coarse phase
 // leaves the source about one grid spacing (0.019 m) toward more overlap, and the fine phase
-// stays there from 7 of the 8 starts (fitness 0.80 against the truth's 0.78, verdict good); 100
-// fixed iterations with tight inner solves stay there from some starts too. Fails (open):
+// stays there from 2 of the 8 starts (7 with every row kept and patience 6; fitness 0.80 against
+// the truth's 0.78, verdict good); 100 fixed iterations with tight inner solves stay there from
+// some starts too. Fails (open):
 //   ppcr_core_registration_test "[limitation]"
 TEST_CASE("a target covering 78 % of its source: registered to the truth from 8 starts",
           "[.][limitation]") {
@@ -1687,6 +1693,59 @@ TEST_CASE("a target covering 78 % of its source: registered to the truth from 8 
     REQUIRE(r.status.ok());
     CHECK(ppcr::translation_error(r.T_target_source, c.T_true) < 1e-3);
   }
+}
+
+TEST_CASE("partial overlap, sampled at random: rows beyond the target's boundary left out",
+          "[registration]") {
+  // The wavy surface sampled at random (2500 points each, 1 mm noise), the target cut to
+  // x <= 0.3 (about 80 % of the source), the source shifted by the 8 offsets. Every source point
+  // has a target point within the radius of 0.1, and those past the cut pull the source toward
+  // more overlap; leaving out the rows whose nearest target point lies on the target's boundary
+  // (boundary.hpp) takes part of that pull away (docs/RELIABILITY.md). Measured: median error
+  // 4.8 mm, largest 5.0 mm, against 7.9 and 8.6 mm with every row kept.
+  auto surface = [](core_test::Rng& rng, double x_max) {
+    PointCloud cloud;
+    while (cloud.size() < 2500) {
+      const double x = core_test::uniform(rng, -0.5, 0.5), y = core_test::uniform(rng, -0.5, 0.5);
+      const Eigen::Vector3d p(
+          x, y, 0.1 * std::sin(4 * x) * std::cos(3 * y) + core_test::gaussian(rng, 0.001));
+      cloud.push_back(p);
+    }
+    PointCloud cut;
+    for (const Eigen::Vector3d& p : cloud) {
+      if (p.x() <= x_max) cut.push_back(p);
+    }
+    return cut;
+  };
+  std::vector<double> left_out, kept;
+  for (std::size_t i = 0; i < kCutShifts.size(); ++i) {
+    core_test::Rng rng(700 + i);
+    const auto [dx, dy] = kCutShifts[i];
+    PointCloud source = surface(rng, 1.0);
+    const PointCloud target = surface(rng, 0.3);
+    for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(dx, dy, 0.0);
+    Eigen::Isometry3d T_true = Eigen::Isometry3d::Identity();
+    T_true.translation() = Eigen::Vector3d(-dx, -dy, 0.0);
+    RegistrationOptions o;
+    o.radius = 0.1;
+    const RegistrationResult with = ppcr::align(source, target, o);
+    o.expert.reject_boundary = false;
+    const RegistrationResult without = ppcr::align(source, target, o);
+    REQUIRE(with.status.ok());
+    REQUIRE(without.status.ok());
+    left_out.push_back(ppcr::translation_error(with.T_target_source, T_true));
+    kept.push_back(ppcr::translation_error(without.T_target_source, T_true));
+    INFO("shift " << dx << ", " << dy << ": translation error " << left_out.back()
+                  << " (rows kept: " << kept.back() << "), " << describe(with));
+    CHECK(with.converged());
+  }
+  std::sort(left_out.begin(), left_out.end());
+  std::sort(kept.begin(), kept.end());
+  INFO("translation errors, rows left out: median "
+       << left_out[4] << ", largest " << left_out.back() << "; rows kept: median " << kept[4]
+       << ", largest " << kept.back());
+  CHECK(left_out.back() < 0.006);
+  CHECK(left_out[4] < 0.75 * kept[4]);
 }
 
 TEST_CASE("a wrong result is not called good: the scene registered from 120 degrees off",

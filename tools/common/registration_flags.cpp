@@ -120,6 +120,11 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
                std::string("plane: pairs use the mean of both clouds' normals (default ") +
                    (e.source_normals ? "on" : "off") + ")")
       ->group(kExpertGroup);
+  app.add_flag("--reject-boundary,!--no-reject-boundary", e.reject_boundary,
+               std::string("plane: after the coarse phase, leave out source points whose nearest "
+                           "target point lies on the target's boundary (default ") +
+                   (e.reject_boundary ? "on" : "off") + ")")
+      ->group(kExpertGroup);
   value(app, "--noise-floor", &e.noise_floor,
         "plane + em: floor the scale at this multiple of the target's surface noise (default " +
             str(e.noise_floor) + "; 0 = off)",

@@ -1,0 +1,36 @@
+// boundary.cpp - see boundary.hpp.
+#include "boundary.hpp"
+
+#include <Eigen/Geometry>
+#include <cassert>
+#include <cstdint>
+
+namespace ppcr {
+inline namespace PPCR_ABI_NAMESPACE {
+namespace detail {
+
+bool on_boundary(const PointCloud& points, const Eigen::Vector3d& y, const Eigen::Vector3d& normal,
+                 const std::uint32_t* idx, int n) {
+  if (normal.squaredNorm() == 0.0) return false;
+  const Eigen::Vector3d u = normal.unitOrthogonal();
+  const Eigen::Vector3d v = normal.cross(u);
+  std::uint32_t occupied = 0;  // bit s: a direction in sector s
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d e = points[idx[i]] - y;
+    const double a = e.dot(u), b = e.dot(v);
+    if (a == 0.0 && b == 0.0) continue;  // on y, or along its normal: no direction
+    occupied |= 1u << direction_sector(a, b);
+  }
+  if (occupied == 0) return false;
+  // A run of kBoundarySectors empty sectors, around the circle: the empty set written twice, and
+  // a bit left at each start of such a run.
+  const std::uint32_t empty = ~occupied & 0xFFFFu;
+  const std::uint32_t twice = empty | (empty << kSectors);
+  std::uint32_t run = twice;
+  for (int s = 1; s < kBoundarySectors; ++s) run &= twice >> s;
+  return (run & 0xFFFFu) != 0;
+}
+
+}  // namespace detail
+}  // namespace PPCR_ABI_NAMESPACE
+}  // namespace ppcr
