@@ -324,8 +324,8 @@ const std::vector<Option>& options_table() {
       value("source_normals", &E::source_normals,
             "expert: pairs use the mean of both clouds' normals (GICP-like)"),
       value("reject_boundary", &E::reject_boundary,
-            "expert: after the 'em' coarse phase, leave out source points whose nearest target "
-            "point lies on the target's boundary"),
+            "expert: plane model, 'em': after the coarse phase, leave out source points whose "
+            "nearest target point lies on the target's boundary (unless over half would go)"),
       value("noise_floor", &E::noise_floor,
             "expert: 'em': floor s at this multiple of the target's surface noise (>= 0; 0 = "
             "none)"),

@@ -142,7 +142,8 @@ class NormalEquations {
   /// pointers must not be declared __restrict), but must not overlap it otherwise; r_sq must
   /// not overlap either. If r_sq is not null, also the squared errors r_sq[j*k+m] = |e|^2 (the
   /// solver passes null: each point's are kept on the stack). Arrays have the association
-  /// table's stride k.
+  /// table's stride k. A row left out (AssociationTable::left_out) adds nothing: its weights are
+  /// 0 and its r_sq slots are not written.
   /// With plane != null the plane error model is used (r_sq then holds e^T Omega e).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,

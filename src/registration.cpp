@@ -434,10 +434,12 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
 const detail::AssociationTable& Registration::Impl::associate(Run* run, bool coarse,
                                                               const Eigen::Isometry3d& T,
                                                               Eigen::Isometry3d* T_start) {
-  // Rows beyond the target's boundary are left out once the coarse phase has brought the clouds
-  // together: before, an edge's pairs are part of what pulls the source into place (measured:
-  // docs/BENCHMARK.md, "Rows beyond the target's boundary").
-  const bool leave_out_boundary = !run->scale.coarse();
+  // Rows beyond the target's boundary are left out once the EM scale's coarse phase has brought
+  // the clouds together: before, an edge's pairs are part of what pulls the source into place
+  // (measured: docs/BENCHMARK.md, "Rows beyond the target's boundary"). The other scale modes
+  // have no such phase, and were not measured with the rule: never.
+  const bool leave_out_boundary =
+      options.expert.scale_mode == ScaleMode::kEM && !run->scale.coarse();
   if (associator.find_from(coarse, T, T_start, leave_out_boundary)) run->acceleration.reset();
   return associator.table();
 }

@@ -69,9 +69,10 @@ struct ExpertOptions {
   int normal_neighbours = 20;   // target (and source) points per PCA normal fit, [5, 64]
   double plane_epsilon = 0.05;  // in-plane weight epsilon of Omega, (0, 1]
   bool source_normals = true;   // pairs use the mean of both clouds' normals (GICP-like)
-  bool reject_boundary = true;  // after the kEM coarse phase (from the first iteration with
-                                // other scale modes), leave out the source points whose nearest
-                                // target point lies on the target's boundary (docs/BENCHMARK.md)
+  bool reject_boundary = true;  // plane model, kEM: after the coarse phase, leave out the source
+                                // points whose nearest target point lies on the target's
+                                // boundary, unless over half of the matched ones would go
+                                // (docs/BENCHMARK.md)
   double noise_floor = 0.8;     // kEM: floor s at this multiple of the target's surface noise
                                 // (RegistrationResult::target_surface_noise); >= 0, 0 = none
 

@@ -56,7 +56,8 @@ struct IterationRecord {
   double mse_prev = 0.0;   // mean |T_t x - T_{t-1} x|^2 over the source (eq. 5), cloud units^2
   double scale = 0.0;      // s used by the E-step, cloud units
   // Associated (source, target) pairs and source points with at least one neighbour (of the
-  // subsampled source while the EM scale settles: the coarse phase and the halving after it).
+  // subsampled source while the EM scale settles: the coarse phase and the halving after it),
+  // rows left out beyond the target's boundary included.
   std::size_t correspondences = 0;
   std::size_t matched_source_points = 0;
   Eigen::Isometry3d T_target_source = Eigen::Isometry3d::Identity();  // pose after the iteration
@@ -76,7 +77,9 @@ struct RegistrationResult {
   double scale = 0.0;             // final E-step scale s (cloud units)
   std::size_t source_points = 0;  // source points registered (after filtering)
   std::size_t target_points = 0;  // target points (after filtering)
-  // Source points with a neighbour and associated pairs in the last iteration.
+  // Source points with a neighbour and associated pairs in the last iteration, those left out
+  // beyond the target's boundary (ExpertOptions::reject_boundary) included; the costs and the
+  // scale are of the rows used.
   std::size_t matched_source_points = 0;
   std::size_t correspondences = 0;
   // Points dropped as non-finite, or so far from the cloud's median that their squared distance

@@ -85,6 +85,11 @@ TEST_CASE("direction_sector: atan2's sector of 22.5 degrees, every direction", "
     ++checked;
   }
   CHECK(checked > 199000);
+  // The axes start their sectors, exactly.
+  CHECK(ppcr::detail::direction_sector(1.0, 0.0) == 0);
+  CHECK(ppcr::detail::direction_sector(0.0, 2.0) == 4);
+  CHECK(ppcr::detail::direction_sector(-3.0, 0.0) == 8);
+  CHECK(ppcr::detail::direction_sector(0.0, -0.5) == 12);
   // Just inside the first and last sectors, and either side of the half turn.
   CHECK(ppcr::detail::direction_sector(1.0, 1e-300) == 0);
   CHECK(ppcr::detail::direction_sector(1.0, -1e-300) == 15);

@@ -121,8 +121,8 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
                    (e.source_normals ? "on" : "off") + ")")
       ->group(kExpertGroup);
   app.add_flag("--reject-boundary,!--no-reject-boundary", e.reject_boundary,
-               std::string("plane: after the coarse phase, leave out source points whose nearest "
-                           "target point lies on the target's boundary (default ") +
+               std::string("plane + em: after the coarse phase, leave out source points whose "
+                           "nearest target point lies on the target's boundary (default ") +
                    (e.reject_boundary ? "on" : "off") + ")")
       ->group(kExpertGroup);
   value(app, "--noise-floor", &e.noise_floor,
