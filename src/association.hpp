@@ -42,6 +42,9 @@ struct AssociationTable {
   void resize(std::size_t source_points, int neighbours);
   /// Sets pairs and matched from count and left_out (integer sums: exact in any order).
   void recount();
+  /// Every row's pairs and rows with pairs, the left-out ones included.
+  std::size_t all_pairs() const { return pairs + left_out_pairs; }
+  std::size_t all_matched() const { return matched + left_out_rows; }
   /// Whether row j is used: it has pairs and is not left out.
   bool used(std::size_t j) const { return count[j] > 0 && !(any_left_out && left_out[j] != 0); }
 };

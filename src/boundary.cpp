@@ -2,7 +2,6 @@
 #include "boundary.hpp"
 
 #include <Eigen/Geometry>
-#include <cassert>
 #include <cstdint>
 
 namespace ppcr {
@@ -24,11 +23,12 @@ bool on_boundary(const PointCloud& points, const Eigen::Vector3d& y, const Eigen
   if (occupied == 0) return false;
   // A run of kBoundarySectors empty sectors, around the circle: the empty set written twice, and
   // a bit left at each start of such a run.
-  const std::uint32_t empty = ~occupied & 0xFFFFu;
+  constexpr std::uint32_t kAll = (1u << kSectors) - 1;
+  const std::uint32_t empty = ~occupied & kAll;
   const std::uint32_t twice = empty | (empty << kSectors);
   std::uint32_t run = twice;
   for (int s = 1; s < kBoundarySectors; ++s) run &= twice >> s;
-  return (run & 0xFFFFu) != 0;
+  return (run & kAll) != 0;
 }
 
 }  // namespace detail

@@ -504,8 +504,8 @@ RegistrationResult Registration::Impl::iterate(const Eigen::Isometry3d& T_initia
     // associator never returns to it once it has associated every point.
     const detail::AssociationTable& pairs = associate(&run, run.scale.settling(), T, &T_next);
     // Every row with pairs, the rows left out beyond the target's boundary too.
-    result.matched_source_points = pairs.matched + pairs.left_out_rows;
-    result.correspondences = pairs.pairs + pairs.left_out_pairs;
+    result.matched_source_points = pairs.all_matched();
+    result.correspondences = pairs.all_pairs();
     if (pairs.pairs == 0) {
       reason = StopReason::kNoCorrespondences;
       if (t == 1) result.status = no_pairs(T_initial);
@@ -563,9 +563,8 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
   r.cost_drop = run.monitor.last_cost_drop();
   r.mse_prev = run.frame.area(run.monitor.last_mse_prev());
   r.scale = run.frame.length(std::sqrt(scale_sq));
-  const detail::AssociationTable& table = associator.table();
-  r.correspondences = table.pairs + table.left_out_pairs;
-  r.matched_source_points = table.matched + table.left_out_rows;
+  r.correspondences = associator.table().all_pairs();
+  r.matched_source_points = associator.table().all_matched();
   r.T_target_source = T_target_source;
   r.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return r;
