@@ -8,8 +8,8 @@
 //   flags0 u8   bit0 plane model, bit1 Gaussian, bits2-3 scale mode (0, 3 EM; 1 raw; 2 fixed),
 //               bit4 two threads, bit5 no history, bit6 target = source moved by T_gt (+ extra
 //               target points), bit7 on_iteration cancels after the 2nd iteration
-//   flags1 u8   bit0 explicit EM coarse scale, bit1 cost_drop_max_motion, bit2
-//               em_coarse_max_motion, bit3 em_min_scale, bit4 source voxel, bit5 target voxel,
+//   flags1 u8   bit0 explicit EM coarse scale, bit1 cost_drop_max_motion, bit2 flips
+//               reject_boundary, bit3 em_min_scale, bit4 source voxel, bit5 target voxel,
 //               bit6 flips source_normals, bit7 flips the noise floor (off, or the em_min_scale
 //               value when the default is off)
 //   criteria u8 (low 4 bits XOR kCriterionCostDrop), max_iterations u8, fixed_iterations u8,
@@ -217,7 +217,8 @@ inline RegistrationInput decode_registration_input(const std::uint8_t* data, std
   if (o.expert.scale_mode == ppcr::ScaleMode::kFixed || (f1 & 1)) o.expert.scale = scale;
   o.expert.plane_epsilon = ((in.u8() + 12) % 256 + 1) / 256.0;
   o.expert.normal_neighbours = 5 + (in.u8() + 15) % 60;
-  o.expert.source_normals = ((f1 & 64) != 0) != defaults.expert.source_normals;  // 0: default
+  o.expert.source_normals = ((f1 & 64) != 0) != defaults.expert.source_normals;   // 0: default
+  o.expert.reject_boundary = ((f1 & 4) != 0) != defaults.expert.reject_boundary;  // 0: default
   o.expert.cost_drop_patience = (in.u8() + defaults.expert.cost_drop_patience) % 16;
   o.expert.mse_patience = (in.u8() + 3) % 8;
   o.expert.successful_steps_patience = (in.u8() + 3) % 8;

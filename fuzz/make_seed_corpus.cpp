@@ -169,6 +169,9 @@ bool registration_seeds(const std::filesystem::path& dir) {
     save_seed("box_defaults", s);
     s.set(f::kFlags0, 64 | 1);  // plane model
     save_seed("box_plane", s);
+    s.set(f::kFlags1, 4);  // the boundary rule flipped
+    save_seed("box_plane_boundary_flipped", s);
+    s.set(f::kFlags1, 0);
     s.set(f::kFlags0, 64 | 2 | 8 | 16);  // Gaussian, fixed scale 0.25, two threads
     s.set(f::kScale, -2);
     save_seed("box_gaussian_fixed", s);

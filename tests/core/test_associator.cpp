@@ -202,3 +202,57 @@ TEST_CASE("Associator: rows whose nearest target point is flagged are left out, 
     }
   }
 }
+
+TEST_CASE("Associator: a row's flag does not depend on how ties at its nearest are ordered",
+          "[associator]") {
+  // Exact ties: a unit lattice in the plane z = 0 as the target and the cells' centres as the
+  // source, so that each source point has 4 nearest target points at the same distance (0.5 in
+  // squares, exact in doubles). The cache orders tied points by index, the k-d tree's query by
+  // its visit order; either way a row is left out when the lowest-indexed of its tied nearest
+  // points is flagged (brute force's rule here), and so the rows left out are the same.
+  PointCloud target, source;
+  const int n = 24;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) target.emplace_back(x, y, 0.0);
+  }
+  for (int y = 0; y + 1 < n; ++y) {
+    for (int x = 0; x + 1 < n; ++x) source.emplace_back(x + 0.5, y + 0.5, 0.0);
+  }
+  KdTree tree;
+  REQUIRE(tree.build(target).ok());
+  // Flags on points with x + 2 y divisible by 3: of each cell's four corners one or two are
+  // flagged, and which one is lowest-indexed decides.
+  std::vector<std::uint8_t> flags(target.size());
+  for (std::size_t i = 0; i < target.size(); ++i) flags[i] = (i % n + 2 * (i / n)) % 3 == 0;
+  const Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  std::vector<std::uint8_t> expected(source.size());
+  std::size_t expected_left = 0;
+  for (std::size_t j = 0; j < source.size(); ++j) {
+    double best = 1e300;
+    std::size_t nearest = 0;
+    for (std::size_t i = 0; i < target.size(); ++i) {
+      const double d = (target[i] - source[j]).squaredNorm();
+      if (d < best) {  // the first (lowest index) of equals
+        best = d;
+        nearest = i;
+      }
+    }
+    expected[j] = flags[nearest];
+    expected_left += flags[nearest];
+  }
+  REQUIRE(expected_left > 0);
+  REQUIRE(2 * expected_left <= source.size());
+  for (int cache_extra : {0, 4}) {
+    INFO("cache_extra " << cache_extra);
+    Associator a;
+    a.set_target(&tree, &target, flags.data());
+    a.prepare(Associator::Settings{6, 1.2, cache_extra, 1, nullptr}, source, nullptr);
+    a.find(false, T, true);
+    const ppcr::detail::AssociationTable& t = a.table();
+    REQUIRE(t.any_left_out);
+    std::size_t mismatches = 0;
+    for (std::size_t j = 0; j < source.size(); ++j) mismatches += t.left_out[j] != expected[j];
+    CHECK(mismatches == 0);
+    CHECK(t.left_out_rows == expected_left);
+  }
+}

@@ -73,6 +73,7 @@ TEST_CASE("fuzz input decoder: zero bytes give the library defaults with caps of
   CHECK(o.expert.cost_drop_threshold == defaults.expert.cost_drop_threshold);
   CHECK(o.source_voxel == 0.0);
   CHECK(o.expert.source_normals == defaults.expert.source_normals);
+  CHECK(o.expert.reject_boundary == defaults.expert.reject_boundary);
   CHECK(o.num_threads == 1);
   CHECK(o.record_history);
   CHECK(in.source.empty());
@@ -85,7 +86,7 @@ TEST_CASE("fuzz input decoder: the header offsets used by the seed corpus", "[re
   namespace f = ppcr_fuzz;
   Bytes b = header();
   b[f::kFlags0] = 1 | 4 | 16 | 64;  // plane, raw, 2 threads, derived target
-  b[f::kFlags1] = 64;               // source normals
+  b[f::kFlags1] = 64 | 4;           // source normals, the boundary rule
   b[f::kMaxIterations] = 3;
   b[f::kLmMaxIterations] = 5;
   b[f::kMaxNeighbours] = 245;  // 1024
@@ -105,6 +106,8 @@ TEST_CASE("fuzz input decoder: the header offsets used by the seed corpus", "[re
   CHECK(in.options.error_model == ppcr::ErrorModel::kPlane);
   // bit6 flips the default's source normals.
   CHECK(in.options.expert.source_normals != ppcr::RegistrationOptions().expert.source_normals);
+  // bit2 flips the default's boundary rule.
+  CHECK(in.options.expert.reject_boundary != ppcr::RegistrationOptions().expert.reject_boundary);
   CHECK(in.options.expert.scale_mode == ppcr::ScaleMode::kRaw);
   CHECK(in.options.num_threads == 2);
   CHECK(in.options.max_iterations == 3);
