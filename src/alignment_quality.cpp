@@ -47,13 +47,13 @@ bool on_surface(const SurfaceTestSq& t, std::uint32_t index, const Eigen::Vector
 }
 
 // Nearest point of `tree` (built over `indexed`) within radius of each T * points[i], whether it
-// is within near_sq and, if `surface` is given, whether a near point is on the surface. Summed per
-// block, then in order. Each query is seeded (kdtree.hpp, "Seeded queries") by the previous
-// point's nearest, a real indexed point: in the clouds' Z-order consecutive points lie close, so
-// the bound prunes from the first leaf on; the result is the unseeded query's, ties included.
+// is within near_sq and whether a near point is on the surface. Summed per block, then in order.
+// Each query is seeded (kdtree.hpp, "Seeded queries") by the previous point's nearest, a real
+// indexed point: in the clouds' Z-order consecutive points lie close, so the bound prunes from
+// the first leaf on; the result is the unseeded query's, ties included.
 Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
                     const Eigen::Isometry3d& T, double radius_sq, double near_sq,
-                    const SurfaceTestSq* surface, const ThreadPool* pool,
+                    const SurfaceTestSq& surface, const ThreadPool* pool,
                     std::vector<double>* scratch) {
   const std::size_t n_blocks = block_count(points.size(), kBlock);
   scratch->resize(kSums * n_blocks);
@@ -74,7 +74,7 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
             s.dist_sq += d_sq;
             if (d_sq > near_sq) continue;
             s.near += 1.0;
-            s.close += surface != nullptr && on_surface(*surface, index, p, d_sq) ? 1.0 : 0.0;
+            s.close += on_surface(surface, index, p, d_sq) ? 1.0 : 0.0;
           }
         }
         double* out = blocks + kSums * static_cast<std::size_t>(b);
@@ -93,6 +93,36 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
   return total;
 }
 
+// How many of the points T * points[i] have a point of `tree` (built over `indexed`) within
+// radius: any one, not the nearest, so the point found for the previous point is tried first (in
+// Z-order consecutive points lie close, and the radius spans many spacings) and a query is made
+// only when it is beyond the radius. Counted per block, then summed in order.
+double count_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
+                    const Eigen::Isometry3d& T, double radius_sq, const ThreadPool* pool,
+                    std::vector<double>* scratch) {
+  const std::size_t n_blocks = block_count(points.size(), kBlock);
+  scratch->resize(n_blocks);
+  double* blocks = scratch->data();
+  parallel_for_blocks(
+      pool, points.size(), kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+        double count = 0.0;
+        bool found = false;  // whether `index` holds the previous point's find
+        std::uint32_t index = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+          const Eigen::Vector3d p = T * points[i];
+          if (!(found && squared_distance(p.data(), indexed[index].data()) <= radius_sq)) {
+            double d_sq;
+            found = tree.radius_knn(p, 1, radius_sq, &index, &d_sq) == 1;
+          }
+          count += found ? 1.0 : 0.0;
+        }
+        blocks[b] = count;
+      });
+  double total = 0.0;
+  for (std::size_t b = 0; b < n_blocks; ++b) total += blocks[b];
+  return total;
+}
+
 }  // namespace
 
 AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& target,
@@ -106,15 +136,15 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
   const double near_sq = near_distance * near_distance;
   const SurfaceTestSq surface_sq(surface);
   const Sums s = nearest_within(target_tree, target, source, T_target_source, radius_sq, near_sq,
-                                &surface_sq, pool, scratch);
+                                surface_sq, pool, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
   q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
-    const Sums back = nearest_within(*source_tree, source, target, T_target_source.inverse(),
-                                     radius_sq, near_sq, nullptr, pool, scratch);
-    q.overlap = std::min(q.fitness, back.matched / static_cast<double>(target.size()));
+    const double back = count_within(*source_tree, source, target, T_target_source.inverse(),
+                                     radius_sq, pool, scratch);
+    q.overlap = std::min(q.fitness, back / static_cast<double>(target.size()));
   }
   return q;
 }

@@ -103,6 +103,9 @@ TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts,
   ppcr::detail::Buffer<ppcr::detail::PlanePoint> planes;
   ppcr::detail::pack_plane_points(target, normals, 0.05, nullptr, &planes);
   const double radius = 3.0, near = 2.0, close = 1.2;
+  // The overlap's count of target points with a source point within the radius tries the
+  // previous target point's find first, then queries: both must occur.
+  std::size_t uncovered = 0;
   for (const Eigen::Isometry3d& T :
        {Eigen::Isometry3d(Eigen::Isometry3d::Identity()),
         core_test::make_pose(Eigen::Vector3d(1, 2, 3), core_test::deg2rad(10),
@@ -126,6 +129,16 @@ TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts,
       CHECK(q.close_fraction == static_cast<double>(s.close) / static_cast<double>(s.near));
       CHECK(q.overlap == std::min(q.fitness, static_cast<double>(back.matched) /
                                                  static_cast<double>(target.size())));
+      REQUIRE(back.matched > 1000);
+      uncovered += target.size() - back.matched;
+      // The clouds' roles swapped: the overlap is then the lower fraction of the backward count
+      // (the source points with a target point within the radius).
+      const ppcr::detail::AlignmentQuality swapped = ppcr::detail::measure_alignment(
+          source_tree, source, target, &target_tree, T.inverse(), radius, near,
+          {close, nullptr, close}, core_test::pool(threads), &scratch);
+      REQUIRE(q.fitness < static_cast<double>(back.matched) / static_cast<double>(target.size()));
+      CHECK(swapped.overlap == static_cast<double>(s.matched) / static_cast<double>(source.size()));
     }
   }
+  CHECK(uncovered > 0);
 }
