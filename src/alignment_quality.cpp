@@ -2,6 +2,7 @@
 #include "alignment_quality.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -14,6 +15,25 @@ namespace detail {
 namespace {
 
 constexpr std::size_t kBlock = 1024;
+
+// Sums over points [0, n) in blocks of kBlock, deterministic for any thread count: body(begin,
+// end, out) writes a block's W partial sums to out[0 .. W), which are then added block by block
+// in order. scratch holds the partial sums (kept by the caller).
+template <std::size_t W, class Body>
+std::array<double, W> block_sums(const ThreadPool* pool, std::size_t n,
+                                 std::vector<double>* scratch, Body&& body) {
+  const std::size_t n_blocks = block_count(n, kBlock);
+  scratch->resize(W * n_blocks);
+  double* blocks = scratch->data();
+  parallel_for_blocks(pool, n, kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+    body(begin, end, blocks + W * static_cast<std::size_t>(b));
+  });
+  std::array<double, W> total{};
+  for (std::size_t b = 0; b < n_blocks; ++b) {
+    for (std::size_t w = 0; w < W; ++w) total[w] += blocks[W * b + w];
+  }
+  return total;
+}
 
 struct Sums {
   double matched = 0.0;  // counts, exact in a double up to 2^53
@@ -55,11 +75,8 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
                     const Eigen::Isometry3d& T, double radius_sq, double near_sq,
                     const SurfaceTestSq& surface, const ThreadPool* pool,
                     std::vector<double>* scratch) {
-  const std::size_t n_blocks = block_count(points.size(), kBlock);
-  scratch->resize(kSums * n_blocks);
-  double* blocks = scratch->data();
-  parallel_for_blocks(
-      pool, points.size(), kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+  const std::array<double, kSums> t = block_sums<kSums>(
+      pool, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
         Sums s;
         bool seeded = false;  // whether `index` holds the previous point's nearest
         std::uint32_t index = 0;
@@ -77,34 +94,27 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
             s.close += on_surface(surface, index, p, d_sq) ? 1.0 : 0.0;
           }
         }
-        double* out = blocks + kSums * static_cast<std::size_t>(b);
         out[0] = s.matched;
         out[1] = s.near;
         out[2] = s.close;
         out[3] = s.dist_sq;
       });
   Sums total;
-  for (std::size_t b = 0; b < n_blocks; ++b) {
-    total.matched += blocks[kSums * b];
-    total.near += blocks[kSums * b + 1];
-    total.close += blocks[kSums * b + 2];
-    total.dist_sq += blocks[kSums * b + 3];
-  }
+  total.matched = t[0];
+  total.near = t[1];
+  total.close = t[2];
+  total.dist_sq = t[3];
   return total;
 }
 
 // How many of the points T * points[i] have a point of `tree` (built over `indexed`) within
 // radius: any one, not the nearest, so the point found for the previous point is tried first (in
-// Z-order consecutive points lie close, and the radius spans many spacings) and a query is made
-// only when it is beyond the radius. Counted per block, then summed in order.
+// Z-order consecutive points lie close) and a query is made only when it is beyond the radius.
 double count_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
                     const Eigen::Isometry3d& T, double radius_sq, const ThreadPool* pool,
                     std::vector<double>* scratch) {
-  const std::size_t n_blocks = block_count(points.size(), kBlock);
-  scratch->resize(n_blocks);
-  double* blocks = scratch->data();
-  parallel_for_blocks(
-      pool, points.size(), kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+  return block_sums<1>(
+      pool, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
         double count = 0.0;
         bool found = false;  // whether `index` holds the previous point's find
         std::uint32_t index = 0;
@@ -116,11 +126,8 @@ double count_within(const KdTree& tree, const PointCloud& indexed, const PointCl
           }
           count += found ? 1.0 : 0.0;
         }
-        blocks[b] = count;
-      });
-  double total = 0.0;
-  for (std::size_t b = 0; b < n_blocks; ++b) total += blocks[b];
-  return total;
+        out[0] = count;
+      })[0];
 }
 
 }  // namespace

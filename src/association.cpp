@@ -2,6 +2,7 @@
 #include "association.hpp"
 
 #include <cassert>
+#include <utility>
 
 #include "thread_pool.hpp"
 
@@ -42,8 +43,16 @@ void associate(const KdTree& target_tree, const PointCloud& source,
     const std::size_t slot = static_cast<std::size_t>(j) * static_cast<std::size_t>(k);
     const Eigen::Vector3d p = R * source[static_cast<std::size_t>(j)] + t;
     double dist_sq[AssociationTable::kMaxNeighbours];  // the query's, not kept
-    table->count[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(
-        target_tree.radius_knn(p, k, radius_sq, &table->index[slot], dist_sq));
+    std::uint32_t* row = &table->index[slot];
+    const int n = target_tree.radius_knn(p, k, radius_sq, row, dist_sq);
+    // The query lists points tied in distance in its visit order; the table lists them by index,
+    // as the neighbour cache does (AssociationTable).
+    for (int m = 1; m < n; ++m) {
+      for (int i = m; i > 0 && dist_sq[i - 1] == dist_sq[i] && row[i - 1] > row[i]; --i) {
+        std::swap(row[i - 1], row[i]);
+      }
+    }
+    table->count[static_cast<std::size_t>(j)] = static_cast<std::uint16_t>(n);
   });
   table->recount();
 }

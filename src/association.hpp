@@ -18,8 +18,8 @@ namespace detail {
 class ThreadPool;  // thread_pool.hpp
 
 /// Slot m < count[j] of source point j holds its m-th nearest target point within the radius,
-/// index[j * k + m] (into the target). Ties in distance are ordered by the path that wrote the
-/// row: by index through the neighbour cache, in the k-d tree's visit order through associate().
+/// index[j * k + m] (into the target). Ties in distance are ordered by index on every path (the
+/// neighbour cache and associate()), so slot 0 is the same point whichever path wrote the row.
 /// The distances are not kept (each user computes its own residual: 8 B per slot less). Sized
 /// once by resize(), which leaves every point without pairs.
 struct AssociationTable {

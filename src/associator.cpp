@@ -1,8 +1,6 @@
 // associator.cpp - see associator.hpp.
 #include "associator.hpp"
 
-#include <algorithm>
-
 #include "thread_pool.hpp"
 
 namespace ppcr {
@@ -64,7 +62,7 @@ void Associator::find(bool coarse, const Eigen::Isometry3d& T, bool leave_out_bo
   // Once every point is associated the coarse level is gone: its rows were spread over every
   // point, whose lists the cache now holds.
   if (!coarse_associated_) use_coarse_ = false;
-  if (leave_out_boundary && boundary_ != nullptr) leave_out_boundary_rows(T);
+  if (leave_out_boundary && boundary_ != nullptr) leave_out_boundary_rows();
 }
 
 bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isometry3d* T_start,
@@ -76,33 +74,13 @@ bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isome
   return true;
 }
 
-void Associator::leave_out_boundary_rows(const Eigen::Isometry3d& T) {
+void Associator::leave_out_boundary_rows() {
   const std::size_t k = static_cast<std::size_t>(table_.k);
-  const PointCloud& rows = points();
-  const Eigen::Matrix3d R = T.linear();
-  const Eigen::Vector3d t = T.translation();
   std::size_t left = 0;
   for (std::size_t j = 0; j < table_.count.size(); ++j) {
-    const std::size_t n = table_.count[j];
-    if (n == 0) {
-      table_.left_out[j] = 0;
-      continue;
-    }
-    // Slot 0 holds the row's nearest target point (AssociationTable). Points tied with it in
-    // distance are ordered by the path that wrote the row, so the flag is read from the
-    // lowest-indexed of those in the row: the same point on every path (while the row holds every
-    // tied point). The distances are the paths' own (the moved point R x + t, squared_distance).
-    const std::uint32_t* slots = &table_.index[j * k];
-    std::uint32_t nearest = slots[0];
-    if (n > 1) {
-      const Eigen::Vector3d p = R * rows[j] + t;
-      const double d0 = squared_distance(p.data(), (*target_)[slots[0]].data());
-      for (std::size_t m = 1;
-           m < n && squared_distance(p.data(), (*target_)[slots[m]].data()) == d0; ++m) {
-        nearest = std::min(nearest, slots[m]);
-      }
-    }
-    const bool out = boundary_[nearest] != 0;
+    // Slot 0 holds the row's nearest target point, the lowest-indexed of those tied at its
+    // distance (AssociationTable).
+    const bool out = table_.count[j] > 0 && boundary_[table_.index[j * k]] != 0;
     table_.left_out[j] = out;
     left += out;
   }

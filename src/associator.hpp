@@ -80,11 +80,10 @@ class Associator {
 
  private:
   void associate(bool coarse, const Eigen::Isometry3d& T);
-  // Leaves out the rows whose nearest target point at T lies on the target's boundary (of points
-  // tied at the nearest distance, the lowest-indexed in the row), unless that would leave out
-  // more than half of the matched rows: a target made mostly of boundary points (a strip, a
-  // sparse cloud) has no interior to prefer, and its pairs are all there is.
-  void leave_out_boundary_rows(const Eigen::Isometry3d& T);
+  // Leaves out the rows whose nearest target point lies on the target's boundary, unless that
+  // would leave out more than half of the matched rows: a target made mostly of boundary points
+  // (a strip, a sparse cloud) has no interior to prefer, and its pairs are all there is.
+  void leave_out_boundary_rows();
 
   const KdTree* tree_ = nullptr;
   const PointCloud* target_ = nullptr;

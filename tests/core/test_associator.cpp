@@ -207,9 +207,10 @@ TEST_CASE("Associator: a row's flag does not depend on how ties at its nearest a
           "[associator]") {
   // Exact ties: a unit lattice in the plane z = 0 as the target and the cells' centres as the
   // source, so that each source point has 4 nearest target points at the same distance (0.5 in
-  // squares, exact in doubles). The cache orders tied points by index, the k-d tree's query by
-  // its visit order; either way a row is left out when the lowest-indexed of its tied nearest
-  // points is flagged (brute force's rule here), and so the rows left out are the same.
+  // squares, exact in doubles). The k-d tree's query lists tied points in its visit order; the
+  // table lists them by index on every path (the cache's and the query's), so a row is left out
+  // when the lowest-indexed of its tied nearest points is flagged (brute force's rule here), with
+  // the cache on and off.
   PointCloud target, source;
   const int n = 24;
   for (int y = 0; y < n; ++y) {
