@@ -62,20 +62,27 @@ double largest_motion(const Vector6d& delta, double source_extent) {
 }  // namespace
 
 void LMSolver::resize(std::size_t source_points, int k) {
-  const std::size_t slots = source_points * static_cast<std::size_t>(k);
+  // One row more: a coarse level of every 2nd point of an odd count has (n + 1) / 2 rows.
+  const std::size_t slots = (source_points + 1) * static_cast<std::size_t>(k);
   w_.resize(slots);
   normal_equations_.resize(source_points, k);
 }
 
 void LMSolver::evaluate(const LMProblem& pb, const Eigen::Isometry3d& pose, const double* w_prev,
-                        double* w_new, Evaluation* out) {
+                        double* w_new, Evaluation* out, PairNormalMemo memo) {
   normal_equations_.evaluate(*pb.source, *pb.target, *pb.assoc, pb.weights, pose, w_prev, w_new,
-                             nullptr, pb.pool, out, pb.plane);
+                             nullptr, pb.pool, out, pb.plane, memo);
 }
 
 LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::Isometry3d* T) {
   LMSummary summary;
-  evaluate(pb, *T, nullptr, w_.data(), &current_);
+  // The pair normals' memo in w_ past the table's slots, where they leave room for it: the first
+  // pass fills it, the others read it (a coarse solve runs several passes).
+  const std::size_t used = pb.assoc->index.size();
+  PairNormalMemo memo;
+  if (2 * used <= w_.size()) memo.slots = w_.data() + used;
+  evaluate(pb, *T, nullptr, w_.data(), &current_, memo);
+  memo.fill = false;
   summary.initial_cost = summary.final_cost = current_.cost;
   if (!std::isfinite(current_.cost) || !current_.H.allFinite() || !current_.g.allFinite()) {
     summary.termination = LMTermination::kNumericalFailure;
@@ -123,7 +130,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
       break;
     }
     // In place: w_ becomes the trial pose's weights (normal_equations.hpp).
-    evaluate(pb, T_trial, w_.data(), w_.data(), &trial_);
+    evaluate(pb, T_trial, w_.data(), w_.data(), &trial_, memo);
     const double actual = current_.cost - trial_.cost_prev_weights;  // same weights
     last_accepted =
         std::isfinite(trial_.cost_prev_weights) && std::isfinite(trial_.cost) && actual > 0.0;
@@ -141,7 +148,7 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
     } else {
       // Reject: back to the current pose's weights, which the next trial (and weights()) needs.
       // The pass repeats the one that made current_, to the bit.
-      evaluate(pb, *T, nullptr, w_.data(), &trial_);
+      evaluate(pb, *T, nullptr, w_.data(), &trial_, memo);
       assert(trial_.cost == current_.cost && trial_.H == current_.H && trial_.g == current_.g);
       ++summary.unsuccessful_steps;
       damping.rejected();

@@ -46,7 +46,7 @@ class LMSolver {
   // One pass at `pose` (normal_equations.hpp): w_new gets its weights; w_prev, if not null, gives
   // the cost under the previous ones.
   void evaluate(const LMProblem& problem, const Eigen::Isometry3d& pose, const double* w_prev,
-                double* w_new, Evaluation* out);
+                double* w_new, Evaluation* out, PairNormalMemo memo);
 
   NormalEquations normal_equations_;
   // The weights at the current pose. A trial pass reads them (the cost under the previous
@@ -55,6 +55,9 @@ class LMSolver {
   // model, pair normals and weight parameters are fixed, so the E-step is a function of the pose
   // alone: they come back to the bit). One array instead of two: a rejected step costs a pass, and
   // none was rejected on the benchmark sets (docs/PERFORMANCE.md).
+  // Room for every source point's k weights and k more: while the table holds at most half the
+  // rows (the coarse level), the slots past its own hold the solve's PairNormalMemo
+  // (normal_equations.hpp) at no extra memory.
   Buffer<double> w_;  // written by each pass before it is read
   Evaluation current_, trial_;
 };

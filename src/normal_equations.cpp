@@ -245,7 +245,7 @@ template <bool kPlane, bool kPairNormals, class Kernel>
 void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
                            const AssociationTable& assoc, const Eigen::Isometry3d& T,
                            const double* w_prev, double* w_new, double* r_sq,
-                           const ThreadPool* pool, const PlaneModel* plane) {
+                           const ThreadPool* pool, const PlaneModel* plane, PairNormalMemo memo) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const Eigen::Matrix3d R = T.linear();
@@ -290,7 +290,13 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
           }
           const PairNormal* normals = nullptr;
           if constexpr (kPairNormals) {
-            pair_normals_of_point(R_pair * source_normals[j], idx, count, points, normals_local);
+            const Eigen::Vector3d m = R_pair * source_normals[j];
+            if (memo.slots == nullptr || memo.fill) {
+              pair_normals_of_point(m, idx, count, points, normals_local,
+                                    memo.slots != nullptr ? &memo.slots[slot] : nullptr);
+            } else {
+              pair_normals_from_memo(m, idx, count, points, &memo.slots[slot], normals_local);
+            }
             normals = normals_local;
           }
           const Eigen::Vector3d p = R * source[j] + t;
@@ -318,7 +324,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
                                const AssociationTable& assoc, const WeightParams& weights,
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
                                double* r_sq, const ThreadPool* pool, Evaluation* out,
-                               const PlaneModel* plane) {
+                               const PlaneModel* plane, PairNormalMemo memo) {
   // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
   assert(assoc.k <= AssociationTable::kMaxNeighbours);
   // The pass needs c and u only: no log-sum-exp (two logarithms per point). The error model
@@ -331,8 +337,8 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
          pair_normals_.size() >= blocks_.size() * static_cast<std::size_t>(assoc.k));
   assert(!use_plane || use_pair_normals || plane->information != nullptr);
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
-    pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(e_step, source, target, assoc, T,
-                                                                 w_prev, w_new, r_sq, pool, plane);
+    pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
+        e_step, source, target, assoc, T, w_prev, w_new, r_sq, pool, plane, memo);
   };
   with_weight_kernel<false>(weights.model, weights.dof, weights.inv_scale_sq,
                             [&](const auto& e_step) {

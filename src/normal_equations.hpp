@@ -127,6 +127,17 @@ struct BlockSums {
   Matrix6d H;
 };
 
+/// What the pair normals' first pass of an inner solve keeps for the solve's later passes, per
+/// table slot (stride k): the table and the rotation the pair normals use are fixed through a
+/// solve (PairNormalSource), so every pass forms the same ones. slots: null, or room for the
+/// table's slots; fill: the pass forms the pair normals and writes the memo
+/// (pair_normals_of_point), else it forms them from the memo (pair_normals_from_memo), the same
+/// to the bit. Unused without pair normals.
+struct PairNormalMemo {
+  double* slots = nullptr;
+  bool fill = true;
+};
+
 class NormalEquations {
  public:
   static constexpr std::size_t kBlockSize = 256;
@@ -144,11 +155,12 @@ class NormalEquations {
   /// solver passes null: each point's are kept on the stack). Arrays have the association
   /// table's stride k. A row left out (AssociationTable::left_out) adds nothing: its weights are
   /// 0 and its r_sq slots are not written.
-  /// With plane != null the plane error model is used (r_sq then holds e^T Omega e).
+  /// With plane != null the plane error model is used (r_sq then holds e^T Omega e). With pair
+  /// normals, memo.slots (if not null) keeps them from a pass to the next (PairNormalMemo).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,
                 double* w_new, double* r_sq, const ThreadPool* pool, Evaluation* out,
-                const PlaneModel* plane = nullptr);
+                const PlaneModel* plane = nullptr, PairNormalMemo memo = {});
 
   /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
   /// for a target point without a normal): the information of the surface-normal part of the
@@ -166,7 +178,8 @@ class NormalEquations {
   template <bool kPlane, bool kPairNormals, class Kernel>
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
-            double* w_new, double* r_sq, const ThreadPool* pool, const PlaneModel* plane);
+            double* w_new, double* r_sq, const ThreadPool* pool, const PlaneModel* plane,
+            PairNormalMemo memo);
   std::vector<BlockSums> blocks_;
   // With pair normals, k per block of source points: the pass forms a point's there.
   std::vector<PairNormal> pair_normals_;

@@ -32,35 +32,73 @@ inline Eigen::Vector3d negated_if(bool flip, const Eigen::Vector3d& v) {
   return out;
 }
 
+// q with `flip` in its sign bit (q >= 0), and back.
+inline double with_flip(double q, bool flip) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &q, sizeof bits);
+  bits |= static_cast<std::uint64_t>(flip) << 63;
+  double out;
+  std::memcpy(&out, &bits, sizeof out);
+  return out;
+}
+inline double without_flip(double memo, bool* flip) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &memo, sizeof bits);
+  *flip = (bits >> 63) != 0;
+  bits &= ~(std::uint64_t{1} << 63);
+  double q;
+  std::memcpy(&q, &bits, sizeof q);
+  return q;
+}
+
 }  // namespace
 
 void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
-                           const PlanePoint* target_points, PairNormal* out) {
+                           const PlanePoint* target_points, PairNormal* out, double* memo) {
   // s = n + sign(n . m) m; a zero m leaves n, a zero n gives 0 (q = 0 below).
-  auto axis = [&m](const Eigen::Vector3d& n) -> Eigen::Vector3d {
+  auto axis = [&m](const Eigen::Vector3d& n, bool* flip) -> Eigen::Vector3d {
+    *flip = false;
     if (n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
-    return n + negated_if(!(n.dot(m) >= 0.0), m);
+    *flip = !(n.dot(m) >= 0.0);
+    return n + negated_if(*flip, m);
   };
   auto inverse_sq = [](const Eigen::Vector3d& v) {
     const double sq = squared_length(v.x(), v.y(), v.z());
     return sq > 0.0 ? 1.0 / sq : 0.0;
   };
   std::size_t i = 0;
+  bool flip_a, flip_b;
   // Two pairs per step, their squared lengths in lanes: one division serves both. Each lane
   // computes 1 / squared_length() as inverse_sq does, correctly rounded, so the bits are the
   // same whatever a pair's place in its list (test_pair_normals).
   for (; i + 2 <= count; i += 2) {
-    const Eigen::Vector3d a = axis(target_points[idx[i]].n);
-    const Eigen::Vector3d b = axis(target_points[idx[i + 1]].n);
+    const Eigen::Vector3d a = axis(target_points[idx[i]].n, &flip_a);
+    const Eigen::Vector3d b = axis(target_points[idx[i + 1]].n, &flip_b);
     const Eigen::Array2d sq = squared_length(
         Eigen::Array2d(a.x(), b.x()), Eigen::Array2d(a.y(), b.y()), Eigen::Array2d(a.z(), b.z()));
     const Eigen::Array2d q = (sq > 0.0).select(1.0 / sq, 0.0);  // 0: no target normal
     out[i] = {a, q[0]};
     out[i + 1] = {b, q[1]};
+    if (memo != nullptr) {
+      memo[i] = with_flip(q[0], flip_a);
+      memo[i + 1] = with_flip(q[1], flip_b);
+    }
   }
   if (i < count) {
-    const Eigen::Vector3d a = axis(target_points[idx[i]].n);
+    const Eigen::Vector3d a = axis(target_points[idx[i]].n, &flip_a);
     out[i] = {a, inverse_sq(a)};
+    if (memo != nullptr) memo[i] = with_flip(out[i].q, flip_a);
+  }
+}
+
+void pair_normals_from_memo(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
+                            const PlanePoint* target_points, const double* memo, PairNormal* out) {
+  for (std::size_t i = 0; i < count; ++i) {
+    bool flip;
+    const double q = without_flip(memo[i], &flip);
+    // q = 0 only without a target normal: with one, |s|^2 = |n|^2 + |m|^2 + 2 |n . m| >= 1.
+    out[i] = q == 0.0 ? PairNormal{Eigen::Vector3d::Zero(), 0.0}
+                      : PairNormal{target_points[idx[i]].n + negated_if(flip, m), q};
   }
 }
 

@@ -22,8 +22,16 @@ namespace detail {
 /// without a normal (m = 0) has s = n; a target point without one (n = 0), s = 0 and q = 0.
 /// Writes out[0..count). Formed per pass rather than stored per pair (24 B x k per source point
 /// less, docs/PERFORMANCE.md).
+/// If memo is not null, also writes memo[0..count): each pair's q with, in its sign bit, whether
+/// its s took -m (what pair_normals_from_memo() needs to form the same s and q again).
 void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
-                           const PlanePoint* target_points, PairNormal* out);
+                           const PlanePoint* target_points, PairNormal* out,
+                           double* memo = nullptr);
+
+/// The same out[0..count) as pair_normals_of_point() with the same m, idx and target points, to
+/// the bit, from the memo it wrote: no dot product, squared length or division.
+void pair_normals_from_memo(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
+                            const PlanePoint* target_points, const double* memo, PairNormal* out);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

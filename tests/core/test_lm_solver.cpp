@@ -410,3 +410,61 @@ TEST_CASE("After a rejected step the weights and evaluation are the current pose
     CHECK(resumed_after_rejection >= 3);
   }
 }
+
+TEST_CASE("A solve that keeps its pair normals in the spare weights equals one that forms them",
+          "[lm]") {
+  // With pair normals, a solver sized for more rows than the table holds keeps each pair's q and
+  // sign from its first pass in the slots past the table's (PairNormalMemo), as a registration's
+  // coarse level does; one sized for the table alone forms them in every pass. Both must give the
+  // same solve to the bit: the default tolerances (several passes per solve), and every tolerance
+  // off so that the solve goes on past convergence through rejected steps (whose restoring pass
+  // reads the memo too).
+  const IrlsScene scene(70, 3000, 1500, Eigen::Vector3d(1, -1, 2), 4.0,
+                        Eigen::Vector3d(0.02, 0.01, -0.01));
+  const PointCloud& source = scene.source;
+  Rng rng(71);
+  std::vector<Eigen::Vector3d> target_normals(scene.target.size());
+  for (Eigen::Vector3d& n : target_normals) n = core_test::random_unit_vector(rng);
+  std::vector<Eigen::Vector3d> source_normals(source.size());
+  for (Eigen::Vector3d& n : source_normals) n = core_test::random_unit_vector(rng);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> plane_points;
+  ppcr::detail::pack_plane_points(scene.target, target_normals, 0.05, nullptr, &plane_points,
+                                  nullptr);
+  ppcr::detail::PairNormalSource pair_source;
+  pair_source.normals = &source_normals;
+  pair_source.R_target_source =
+      core_test::make_pose(Eigen::Vector3d(0, 1, 1), 0.3, Eigen::Vector3d::Zero()).linear();
+  ppcr::detail::PlaneModel plane;
+  plane.points = &plane_points;
+  plane.pair_source = &pair_source;
+  plane.epsilon = 0.05;
+  LMProblem pb = scene.problem();
+  pb.plane = &plane;
+  for (const bool tolerances : {true, false}) {
+    LMOptions options;
+    if (!tolerances) {
+      options.function_tolerance = options.gradient_tolerance = options.step_tolerance = 0.0;
+      options.max_iterations = 60;
+    }
+    LMSolver forming, keeping;
+    forming.resize(source.size(), IrlsScene::kNeighbours);
+    keeping.resize(2 * source.size(), IrlsScene::kNeighbours);
+    Eigen::Isometry3d T_forming = Eigen::Isometry3d::Identity(), T_keeping = T_forming;
+    const LMSummary a = forming.solve(options, pb, &T_forming);
+    const LMSummary b = keeping.solve(options, pb, &T_keeping);
+    INFO("tolerances " << tolerances << " termination " << ppcr::to_string(a.termination));
+    CHECK(T_forming.matrix() == T_keeping.matrix());
+    CHECK(a.iterations == b.iterations);
+    CHECK(a.successful_steps == b.successful_steps);
+    CHECK(a.unsuccessful_steps == b.unsuccessful_steps);
+    CHECK(a.final_cost == b.final_cost);
+    CHECK(forming.last().H == keeping.last().H);
+    CHECK(forming.last().g == keeping.last().g);
+    const std::size_t slots = scene.assoc.index.size();
+    CHECK(std::equal(forming.weights().data(), forming.weights().data() + slots,
+                     keeping.weights().data()));
+    // Several passes read the memo; without tolerances some steps were rejected.
+    CHECK(a.successful_steps >= 3);
+    if (!tolerances) CHECK(a.unsuccessful_steps >= 3);
+  }
+}

@@ -172,3 +172,57 @@ TEST_CASE("pair normals equal the one-pair formula to the bit, at every place in
     CHECK(second_lane > 300u);
   }
 }
+
+// The memo an inner solve's first pass keeps (normal_equations.hpp, PairNormalMemo): the pair
+// normals formed from it are those formed afresh, to the bit, for every row (target points with
+// and without normals, source normals on either side, zero source normals); and the memo alone
+// does not hold them (a memo of another rotation's pass gives other normals).
+TEST_CASE("pair normals from the memo equal those formed afresh, to the bit", "[pair_normals]") {
+  const Case c = make_case(306);
+  const std::size_t k = static_cast<std::size_t>(c.assoc.k);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<ppcr::detail::PairNormal> fresh = run_raw(c);
+  std::vector<double> memo(c.assoc.index.size(), nan);
+  std::vector<ppcr::detail::PairNormal> kept(c.assoc.index.size(),
+                                             {Eigen::Vector3d::Constant(nan), nan});
+  std::vector<ppcr::detail::PairNormal> from_memo = kept;
+  std::size_t compared = 0, negated = 0, zero = 0;
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    const Eigen::Vector3d m = c.R * c.source_normals[j];
+    const std::uint32_t* idx = &c.assoc.index[j * k];
+    const std::size_t count = c.assoc.count[j];
+    ppcr::detail::pair_normals_of_point(m, idx, count, c.target_points.data(), &kept[j * k],
+                                        &memo[j * k]);
+    ppcr::detail::pair_normals_from_memo(m, idx, count, c.target_points.data(), &memo[j * k],
+                                         &from_memo[j * k]);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t slot = j * k + i;
+      INFO("slot " << slot);
+      // Writing the memo leaves the pass's own normals as they were.
+      CHECK(kept[slot].s == fresh[slot].s);
+      CHECK(kept[slot].q == fresh[slot].q);
+      CHECK(from_memo[slot].s == fresh[slot].s);
+      CHECK(from_memo[slot].q == fresh[slot].q);
+      ++compared;
+      negated += std::signbit(memo[slot]);
+      zero += fresh[slot].q == 0.0;
+    }
+  }
+  CHECK(compared > 1500u);
+  CHECK(negated > 200u);
+  CHECK(zero > 50u);
+  // The memo holds the sign chosen at this rotation: read with another source normal direction
+  // (m negated), the normals differ wherever there is one.
+  std::size_t differ = 0;
+  for (std::size_t j = 0; j < c.assoc.count.size(); ++j) {
+    const Eigen::Vector3d m = -(c.R * c.source_normals[j]);
+    std::vector<ppcr::detail::PairNormal> other(k);
+    ppcr::detail::pair_normals_from_memo(m, &c.assoc.index[j * k], c.assoc.count[j],
+                                         c.target_points.data(), &memo[j * k], other.data());
+    for (std::size_t i = 0; i < c.assoc.count[j]; ++i) {
+      differ += fresh[j * k + i].q > 0.0 && c.source_normals[j].squaredNorm() > 0.0 &&
+                !(other[i].s == fresh[j * k + i].s);
+    }
+  }
+  CHECK(differ > 1000u);
+}
