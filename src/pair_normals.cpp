@@ -18,8 +18,8 @@ T squared_length(const T& x, const T& y, const T& z) {
 }
 
 // v with every sign bit flipped when `flip`, else v, without a branch: PCA normals have no sign,
-// so a branch on the sign of n . m would be mispredicted about every other pair (written as a
-// branch, the pass took 2.5-4 % longer on the lidar set). x + (-y) is x - y to the bit.
+// so a branch on the sign of n . m would be mispredicted about every other pair
+// (docs/PERFORMANCE.md). x + (-y) is x - y to the bit.
 inline Eigen::Vector3d negated_if(bool flip, const Eigen::Vector3d& v) {
   const std::uint64_t sign = static_cast<std::uint64_t>(flip) << 63;
   Eigen::Vector3d out;

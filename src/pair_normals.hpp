@@ -18,10 +18,11 @@ namespace detail {
 /// and m = R m_j, its source normal in the target frame at the association's rotation R,
 ///   s = n + sign(n . m) m   (sign +1 when n . m >= 0),
 /// the mean direction of the two surfaces' normals (the sign flips the source normal onto the
-/// target's side: PCA normals have no sign; |s| >= sqrt(2), never degenerate). A source point
+/// target's side: PCA normals have no sign; |s| >= 1, never degenerate). A source point
 /// without a normal (m = 0) has s = n; a target point without one (n = 0), s = 0 and q = 0.
 /// Writes out[0..count). Formed per pass rather than stored per pair (24 B x k per source point
-/// less, docs/PERFORMANCE.md).
+/// less, docs/PERFORMANCE.md); within an inner solve the later passes may form them from the
+/// memo the first one wrote (below).
 /// If memo is not null, also writes memo[0..count): each pair's q with, in its sign bit, whether
 /// its s took -m (what pair_normals_from_memo() needs to form the same s and q again).
 void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
