@@ -14,7 +14,6 @@ void AssociationTable::resize(std::size_t source_points, int neighbours) {
   k = neighbours;
   index.resize(source_points * static_cast<std::size_t>(neighbours));
   count.resize(source_points);
-  left_out.resize(source_points);
   any_left_out = false;
   pairs = matched = left_out_pairs = left_out_rows = 0;
 }

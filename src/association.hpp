@@ -27,8 +27,9 @@ struct AssociationTable {
   Buffer<std::uint32_t> index;       // written by each association before it is read
   std::vector<std::uint16_t> count;  // k <= kMaxNeighbours fits in 16 bits
   // Rows left out of the solve (Associator::find: beyond the target's boundary, boundary.hpp):
-  // left_out[j] != 0 while any_left_out. A left-out row keeps its slots and count (the neighbour
-  // cache's state), but pairs and matched do not count it and the passes skip it.
+  // left_out[j] != 0 while any_left_out (sized by the leaving out, not by resize(): empty while
+  // no row is left out). A left-out row keeps its slots and count (the neighbour cache's state),
+  // but pairs and matched do not count it and the passes skip it.
   std::vector<std::uint8_t> left_out;
   bool any_left_out = false;
   std::size_t pairs = 0;    // sum of count over the rows used

@@ -28,6 +28,8 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   coarse_associated_ = false;
   // Sized for every point first, so that the coarse level's rows grow back without allocating.
   table_.resize(n, k);
+  // Rows are left out only beyond a target's boundary: room for every row, only when it has one.
+  if (boundary_ != nullptr) table_.left_out.reserve(n);
   if (!use_coarse_) {
     // Also forgets the previous source's lists.
     if (use_cache_) cache_.resize(n, capacity, settings.pool);
@@ -77,6 +79,7 @@ bool Associator::find_from(bool coarse, const Eigen::Isometry3d& T, Eigen::Isome
 void Associator::leave_out_boundary_rows() {
   const std::size_t k = static_cast<std::size_t>(table_.k);
   std::size_t left = 0;
+  table_.left_out.resize(table_.count.size());  // within the room prepare() reserved
   for (std::size_t j = 0; j < table_.count.size(); ++j) {
     // Slot 0 holds the row's nearest target point, the lowest-indexed of those tied at its
     // distance (AssociationTable).
@@ -93,14 +96,20 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   const PointCloud& cloud = coarse ? coarse_points_ : *source_;
   // From the coarse level to every point: the rows grow, the coarse points keeping theirs.
   const bool spread = coarse_associated_ && !coarse;
+  // Every point first, the coarse level prepared but never associated: the rows grow, empty
+  // (within the room prepare() reserved).
+  const bool grow = !coarse && table_.count.size() != source_->size();
   if (use_cache_) {
     if (spread) {
       spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_, settings_.pool);
+    } else if (grow) {
+      table_.resize(source_->size(), settings_.k);
+      cache_.resize(source_->size(), cache_.capacity, settings_.pool);
     }
     associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.pool, &cache_,
                      &table_);
   } else {
-    if (spread) table_.resize(source_->size(), settings_.k);
+    if (spread || grow) table_.resize(source_->size(), settings_.k);
     detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.pool,
                       &table_);
   }

@@ -79,6 +79,8 @@ LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::
   // The pair normals' memo in w_ past the table's slots, where they leave room for it: the first
   // pass fills it, the others read it (a coarse solve runs several passes).
   const std::size_t used = pb.assoc->index.size();
+  // The weights' slots are the table's (one per slot of each row), and the memo's follow them.
+  assert(used == pb.assoc->count.size() * static_cast<std::size_t>(pb.assoc->k));
   PairNormalMemo memo;
   if (2 * used <= w_.size()) memo.slots = w_.data() + used;
   evaluate(pb, *T, nullptr, w_.data(), &current_, memo);

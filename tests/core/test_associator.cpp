@@ -203,6 +203,58 @@ TEST_CASE("Associator: rows whose nearest target point is flagged are left out, 
   }
 }
 
+TEST_CASE("Associator: every point first, a coarse level prepared but unused", "[associator]") {
+  // find(coarse = false) associates every point, also as the first call after prepare() made a
+  // coarse level (the table then held the coarse level's rows only, and the association of every
+  // point ran past them): brute force's table over the whole source, cache on and off.
+  Fixture f;
+  const double radius = 0.15;
+  for (int cache_extra : {0, 4}) {
+    INFO("cache_extra " << cache_extra);
+    Associator a;
+    a.set_target(&f.tree, &f.target);
+    a.prepare(Associator::Settings{5, radius, cache_extra, 2, nullptr}, f.source, nullptr);
+    REQUIRE(a.has_coarse_level());
+    for (int step = 0; step < 3; ++step) {
+      a.find(false, pose(step));
+      INFO("step " << step);
+      CHECK_FALSE(a.coarse());
+      CHECK(a.points().size() == f.source.size());
+      CHECK(a.table().count.size() == f.source.size());
+      CHECK(core_test::table_mismatch(a.table(), f.source, f.target, pose(step), radius * radius) ==
+            "");
+    }
+  }
+}
+
+TEST_CASE("Associator: without a target's flags no row is left out and none has room for it",
+          "[associator]") {
+  // The rule reads the target's boundary flags: a target without them (reject_boundary off)
+  // leaves every row in, asked or not, and the table holds no per-row flags (1 B per source point
+  // otherwise); with flags, prepare() makes room for every row, so finding allocates nothing.
+  Fixture f;
+  const double radius = 0.15;
+  Associator a;
+  a.set_target(&f.tree, &f.target);
+  a.prepare(Associator::Settings{5, radius, 4, 2, nullptr}, f.source, nullptr);
+  for (int step = 0; step < 3; ++step) {
+    a.find(step == 0, pose(step), true);
+    CHECK_FALSE(a.table().any_left_out);
+    CHECK(a.table().left_out.capacity() == 0u);
+    CHECK(a.table().left_out_rows == 0u);
+    CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, pose(step), radius * radius) ==
+          "");
+  }
+  std::vector<std::uint8_t> every_fifth(f.target.size());
+  for (std::size_t i = 0; i < f.target.size(); i += 5) every_fifth[i] = 1;
+  a.set_target(&f.tree, &f.target, every_fifth.data());
+  a.prepare(Associator::Settings{5, radius, 4, 2, nullptr}, f.source, nullptr);
+  CHECK(a.table().left_out.capacity() >= f.source.size());
+  a.find(false, pose(1), true);
+  CHECK(a.table().any_left_out);
+  CHECK(a.table().left_out.size() == f.source.size());
+}
+
 TEST_CASE("Associator: a row's flag does not depend on how ties at its nearest are ordered",
           "[associator]") {
   // Exact ties: a unit lattice in the plane z = 0 as the target and the cells' centres as the
