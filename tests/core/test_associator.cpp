@@ -36,6 +36,13 @@ struct Fixture {
   }
 };
 
+// Prepares *a for the fixture's source over its target (with its boundary flags, if any): k = 5.
+void prepare(Associator* a, const Fixture& f, double radius, int cache_extra, std::size_t stride,
+             const std::uint8_t* flags = nullptr) {
+  a->set_target(&f.tree, &f.target, flags);
+  a->prepare(Associator::Settings{5, radius, cache_extra, stride, nullptr}, f.source, nullptr);
+}
+
 }  // namespace
 
 TEST_CASE("Associator: cached and coarse paths give brute force's tables at every pose",
@@ -46,8 +53,7 @@ TEST_CASE("Associator: cached and coarse paths give brute force's tables at ever
     for (std::size_t stride : {std::size_t{1}, std::size_t{3}}) {
       INFO("cache_extra " << cache_extra << ", stride " << stride);
       Associator a;
-      a.set_target(&f.tree, &f.target);
-      a.prepare(Associator::Settings{5, radius, cache_extra, stride, nullptr}, f.source, nullptr);
+      prepare(&a, f, radius, cache_extra, stride);
       CHECK(a.has_coarse_level() == (stride > 1));
       for (int step = 0; step < 8; ++step) {
         const bool coarse = step < 4;  // the coarse phase, then every point
@@ -85,14 +91,13 @@ TEST_CASE("Associator: once every point is associated, the coarse level is gone 
           "[associator]") {
   // The caller may ask for the coarse level again (the registration asks while the EM scale
   // settles, and it can settle again after a full iteration): the rows were spread over every
-  // point, and the table stays every point's.
+  // point, and the table stays every point's. Also when every point came first.
   Fixture f;
   const double radius = 0.15;
   for (int cache_extra : {0, 4}) {
     INFO("cache_extra " << cache_extra);
     Associator a;
-    a.set_target(&f.tree, &f.target);
-    a.prepare(Associator::Settings{5, radius, cache_extra, 3, nullptr}, f.source, nullptr);
+    prepare(&a, f, radius, cache_extra, 3);
     a.find(true, pose(0));
     REQUIRE(a.coarse());
     a.find(false, pose(1));
@@ -104,6 +109,21 @@ TEST_CASE("Associator: once every point is associated, the coarse level is gone 
       CHECK(a.points().size() == f.source.size());
       CHECK(core_test::table_mismatch(a.table(), a.points(), f.target, pose(step),
                                       radius * radius) == "");
+    }
+    // Every point first, the coarse level prepared but never used: the table grows to every
+    // point (it held the coarse level's rows only, and the association of every point ran past
+    // them), brute force's over the whole source.
+    Associator b;
+    prepare(&b, f, radius, cache_extra, 2);
+    REQUIRE(b.has_coarse_level());
+    for (int step = 0; step < 3; ++step) {
+      INFO("every point first, step " << step);
+      b.find(false, pose(step));
+      CHECK_FALSE(b.coarse());
+      CHECK(b.points().size() == f.source.size());
+      CHECK(b.table().count.size() == f.source.size());
+      CHECK(core_test::table_mismatch(b.table(), f.source, f.target, pose(step), radius * radius) ==
+            "");
     }
   }
 }
@@ -118,8 +138,7 @@ TEST_CASE("Associator: a start beyond every target point falls back to the solve
   for (int cache_extra : {0, 4}) {
     INFO("cache_extra " << cache_extra);
     Associator a;
-    a.set_target(&f.tree, &f.target);
-    a.prepare(Associator::Settings{5, radius, cache_extra, 1, nullptr}, f.source, nullptr);
+    prepare(&a, f, radius, cache_extra, 1);
     Eigen::Isometry3d T_start = away;
     CHECK(a.find_from(false, T, &T_start));
     CHECK(T_start.matrix() == T.matrix());
@@ -152,8 +171,7 @@ TEST_CASE("Associator: rows whose nearest target point is flagged are left out, 
     for (std::size_t stride : {std::size_t{1}, std::size_t{3}}) {
       INFO("cache_extra " << cache_extra << ", stride " << stride);
       Associator a;
-      a.set_target(&f.tree, &f.target, every_fifth.data());
-      a.prepare(Associator::Settings{5, radius, cache_extra, stride, nullptr}, f.source, nullptr);
+      prepare(&a, f, radius, cache_extra, stride, every_fifth.data());
       for (int step = 0; step < 8; ++step) {
         const bool coarse = step < 4;
         const bool leave_out = step % 3 != 0;  // asked, then not, then asked again
@@ -203,30 +221,6 @@ TEST_CASE("Associator: rows whose nearest target point is flagged are left out, 
   }
 }
 
-TEST_CASE("Associator: every point first, a coarse level prepared but unused", "[associator]") {
-  // find(coarse = false) associates every point, also as the first call after prepare() made a
-  // coarse level (the table then held the coarse level's rows only, and the association of every
-  // point ran past them): brute force's table over the whole source, cache on and off.
-  Fixture f;
-  const double radius = 0.15;
-  for (int cache_extra : {0, 4}) {
-    INFO("cache_extra " << cache_extra);
-    Associator a;
-    a.set_target(&f.tree, &f.target);
-    a.prepare(Associator::Settings{5, radius, cache_extra, 2, nullptr}, f.source, nullptr);
-    REQUIRE(a.has_coarse_level());
-    for (int step = 0; step < 3; ++step) {
-      a.find(false, pose(step));
-      INFO("step " << step);
-      CHECK_FALSE(a.coarse());
-      CHECK(a.points().size() == f.source.size());
-      CHECK(a.table().count.size() == f.source.size());
-      CHECK(core_test::table_mismatch(a.table(), f.source, f.target, pose(step), radius * radius) ==
-            "");
-    }
-  }
-}
-
 TEST_CASE("Associator: without a target's flags no row is left out and none has room for it",
           "[associator]") {
   // The rule reads the target's boundary flags: a target without them (reject_boundary off)
@@ -235,8 +229,7 @@ TEST_CASE("Associator: without a target's flags no row is left out and none has 
   Fixture f;
   const double radius = 0.15;
   Associator a;
-  a.set_target(&f.tree, &f.target);
-  a.prepare(Associator::Settings{5, radius, 4, 2, nullptr}, f.source, nullptr);
+  prepare(&a, f, radius, 4, 2);
   for (int step = 0; step < 3; ++step) {
     a.find(step == 0, pose(step), true);
     CHECK_FALSE(a.table().any_left_out);
@@ -247,8 +240,7 @@ TEST_CASE("Associator: without a target's flags no row is left out and none has 
   }
   std::vector<std::uint8_t> every_fifth(f.target.size());
   for (std::size_t i = 0; i < f.target.size(); i += 5) every_fifth[i] = 1;
-  a.set_target(&f.tree, &f.target, every_fifth.data());
-  a.prepare(Associator::Settings{5, radius, 4, 2, nullptr}, f.source, nullptr);
+  prepare(&a, f, radius, 4, 2, every_fifth.data());
   CHECK(a.table().left_out.capacity() >= f.source.size());
   a.find(false, pose(1), true);
   CHECK(a.table().any_left_out);
