@@ -433,6 +433,7 @@ TEST_CASE("rows left out (AssociationTable::left_out) are as rows without pairs,
   const Problem pb = make_problem(91, 3000, k, 0.08);
   Problem emptied = pb;
   Problem left = pb;
+  left.assoc.left_out.assign(pb.source.size(), 0);  // sized by whoever leaves rows out
   std::size_t out = 0;
   for (std::size_t j = 0; j < pb.source.size(); ++j) {
     const bool leave = pb.assoc.count[j] > 0 && j % 3 == 0;
