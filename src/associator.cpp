@@ -94,22 +94,20 @@ void Associator::leave_out_boundary_rows() {
 
 void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   const PointCloud& cloud = coarse ? coarse_points_ : *source_;
-  // From the coarse level to every point: the rows grow, the coarse points keeping theirs.
-  const bool spread = coarse_associated_ && !coarse;
-  // Every point first, the coarse level prepared but never associated: the rows grow, empty
-  // (within the room prepare() reserved).
-  const bool grow = !coarse && table_.count.size() != source_->size();
-  if (use_cache_) {
-    if (spread) {
+  // From the coarse level's rows to every point's (within the room prepare() reserved): the
+  // coarse points keep theirs when the coarse level was associated, else every row starts empty.
+  if (!coarse && table_.count.size() != source_->size()) {
+    if (use_cache_ && coarse_associated_) {
       spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_, settings_.pool);
-    } else if (grow) {
+    } else {
       table_.resize(source_->size(), settings_.k);
-      cache_.resize(source_->size(), cache_.capacity, settings_.pool);
+      if (use_cache_) cache_.resize(source_->size(), cache_.capacity, settings_.pool);
     }
+  }
+  if (use_cache_) {
     associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.pool, &cache_,
                      &table_);
   } else {
-    if (spread || grow) table_.resize(source_->size(), settings_.k);
     detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.pool,
                       &table_);
   }

@@ -32,24 +32,8 @@ inline Eigen::Vector3d negated_if(bool flip, const Eigen::Vector3d& v) {
   return out;
 }
 
-// q with `flip` in its sign bit (q >= 0), and back.
-inline double with_flip(double q, bool flip) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &q, sizeof bits);
-  bits |= static_cast<std::uint64_t>(flip) << 63;
-  double out;
-  std::memcpy(&out, &bits, sizeof out);
-  return out;
-}
-inline double without_flip(double memo, bool* flip) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &memo, sizeof bits);
-  *flip = (bits >> 63) != 0;
-  bits &= ~(std::uint64_t{1} << 63);
-  double q;
-  std::memcpy(&q, &bits, sizeof q);
-  return q;
-}
+// The memo of a pair: q (>= 0) with `flip` in its sign bit.
+inline double with_flip(double q, bool flip) { return std::copysign(q, flip ? -1.0 : 1.0); }
 
 }  // namespace
 
@@ -94,8 +78,8 @@ void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, s
 void pair_normals_from_memo(const Eigen::Vector3d& m, const std::uint32_t* idx, std::size_t count,
                             const PlanePoint* target_points, const double* memo, PairNormal* out) {
   for (std::size_t i = 0; i < count; ++i) {
-    bool flip;
-    const double q = without_flip(memo[i], &flip);
+    const bool flip = std::signbit(memo[i]);
+    const double q = std::fabs(memo[i]);
     // q = 0 only without a target normal: with one, |s|^2 = |n|^2 + |m|^2 + 2 |n . m| >= 1.
     out[i] = q == 0.0 ? PairNormal{Eigen::Vector3d::Zero(), 0.0}
                       : PairNormal{target_points[idx[i]].n + negated_if(flip, m), q};
