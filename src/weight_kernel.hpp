@@ -21,8 +21,8 @@
 //
 // The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
 // multiple of 1/8 up to 32 (nu a multiple of 0.25) by squaring and at most three square roots,
-// otherwise std::pow. The roots' kernel takes two neighbours per step in two lanes, to the same
-// bits (tests/core/test_weights.cpp).
+// otherwise std::pow. The roots' kernel takes two neighbours per step in two lanes, and four per
+// step where the CPU has AVX (four_lanes.hpp), to the same bits (tests/core/test_weights.cpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -30,6 +30,7 @@
 #include <cstddef>
 #include <limits>
 
+#include "four_lanes.hpp"
 #include "ppcr/abi.hpp"
 #include "weights.hpp"
 
@@ -68,8 +69,9 @@ struct PowerDyadic {
   // Two lanes pay for the roots at dof 1.25 (docs/PERFORMANCE.md, BM_EStep); an integer e (odd
   // dof) gains on the E-step's division only.
   static constexpr bool kTwoLanes = true;
-  int whole;    // floor(e)
-  int eighths;  // (e - floor(e)) * 8, in [0, 8)
+  int whole;                // floor(e)
+  int eighths;              // (e - floor(e)) * 8, in [0, 8)
+  bool four_lanes = false;  // four_lane_dyadic() first (four_lanes.hpp): the same bits
   template <class T>
   T operator()(const T& q) const {
     T result = one_like(q);
@@ -130,9 +132,14 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   double sum = 0.0;
   // With a power of square roots (Power::kTwoLanes), two neighbours per step: one instruction
   // serves two lanes for the division and the roots, the cost of this loop; the sum is kept in
-  // the scalar order. Then the rest, or every neighbour, one at a time.
+  // the scalar order (four per step first where the CPU has AVX). Then the rest, or every
+  // neighbour, one at a time.
   std::size_t k = 0;
   if constexpr (Power::kTwoLanes) {
+    if (power.four_lanes) {
+      k = four_lane_dyadic(power.whole, power.eighths, nu_z_min, dof, inv_scale_sq, r_sq, n, u,
+                           &sum);
+    }
     for (; k + 2 <= n; k += 2) {
       const Eigen::Array2d r2 = Eigen::Map<const Eigen::Array2d>(r_sq + k);
       const Eigen::Array2d q = nu_z_min / (dof + r2 * inv_scale_sq);
@@ -194,7 +201,7 @@ void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& 
     });
   } else if (eighths == std::floor(eighths) && exponent <= 32.0) {
     const int whole = static_cast<int>(std::floor(exponent));
-    const PowerDyadic power{whole, static_cast<int>(eighths) - 8 * whole};
+    const PowerDyadic power{whole, static_cast<int>(eighths) - 8 * whole, four_lanes_available()};
     f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
       return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, r_min, n, u);
     });

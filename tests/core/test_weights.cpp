@@ -2,11 +2,13 @@
 // hand, direct (non-log-space) evaluation on moderate values, and limits.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <vector>
 
 #include "core_test_util.hpp"
+#include "weight_kernel.hpp"
 #include "weights.hpp"
 
 using core_test::Rng;
@@ -366,4 +368,39 @@ TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for eve
     }
   }
   CHECK(compared == 9 * 11 * 20);
+}
+
+// The four-lane path (four_lanes.hpp) against the two-lane one, to the bit: u, c and the sum's
+// order, for counts around the lanes' widths and every dyadic power of the kernel's range.
+TEST_CASE("Student-t: four lanes give the two-lane kernel's weights to the bit", "[weights]") {
+  if (!ppcr::detail::four_lanes_available()) {
+    WARN("four lanes are not available on this CPU or build: only the two-lane path is tested");
+    return;
+  }
+  Rng rng(31);
+  int compared = 0;
+  for (int quarters = 1; quarters <= 60; ++quarters) {  // nu = 0.25 ... 15: e = 1.625 ... 9
+    const double nu = 0.25 * quarters;
+    const double exponent = 0.5 * (nu + 3.0);
+    const int whole = static_cast<int>(std::floor(exponent));
+    const int eighths = static_cast<int>(8.0 * exponent) - 8 * whole;
+    const ppcr::detail::PowerDyadic two{whole, eighths, false}, four{whole, eighths, true};
+    for (std::size_t n = 1; n <= 13; ++n) {
+      const double inv_s2 = std::pow(10.0, core_test::uniform(rng, -3.0, 3.0));
+      std::vector<double> r(n);
+      for (double& v : r) v = core_test::uniform(rng, 0.0, 30.0) / inv_s2;
+      const double r_min = ppcr::detail::smallest(r.data(), n);
+      std::vector<double> u2(n, -1.0), u4(n, -2.0);
+      const ppcr::detail::PointWeights a = ppcr::detail::student_t_weights<true>(
+          two, nu, exponent, inv_s2, r.data(), r_min, n, u2.data());
+      const ppcr::detail::PointWeights b = ppcr::detail::student_t_weights<true>(
+          four, nu, exponent, inv_s2, r.data(), r_min, n, u4.data());
+      INFO("nu " << nu << " n " << n);
+      CHECK(std::memcmp(u2.data(), u4.data(), n * sizeof(double)) == 0);
+      CHECK(std::memcmp(&a.c, &b.c, sizeof(double)) == 0);
+      CHECK(std::memcmp(&a.log_sum_exp, &b.log_sum_exp, sizeof(double)) == 0);
+      ++compared;
+    }
+  }
+  CHECK(compared == 60 * 13);
 }
