@@ -12,9 +12,11 @@
 // B_j - delta_j from p_j (triangle inequality). Re-ranking the candidates by their distance to
 // p_j gives the k nearest within r among them; let D_j be the k-th distance, or r when fewer
 // than k are within r. If D_j < B_j - delta_j, no uncached point can be among the true k nearest
-// within r, so the re-ranked list IS the answer of a fresh radius-limited kNN query (up to the
-// order of exactly tied distances). Otherwise the point is re-queried (K candidates within r_c
-// around p_j) and re-ranked. Either way the table equals a fresh association.
+// within r, so the re-ranked list IS the answer of a fresh radius-limited kNN query, up to exact
+// ties: their order, and, where more than k points tie at the k-th distance, which of them are
+// kept (the re-rank orders by distance, then index; the tree keeps the ones it visits first).
+// Otherwise the point is re-queried (K candidates within r_c around p_j) and re-ranked. Either
+// way the table equals a fresh association, up to those ties.
 //
 // Same set, cheaper (the "set certificate"): after a point is re-ranked at position p' with n
 // neighbours of largest distance m, every target point outside the table is at least G from p',
