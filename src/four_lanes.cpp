@@ -37,7 +37,8 @@ __attribute__((target("avx"))) std::size_t four_lane_dyadic(int whole, int eight
   for (; k + 4 <= n; k += 4) {
     const __m256d r = _mm256_loadu_pd(r_sq + k);
     const __m256d q = _mm256_div_pd(numerator, _mm256_add_pd(nu, _mm256_mul_pd(r, inv)));
-    // PowerDyadic::operator(), lane by lane.
+    // PowerDyadic::operator() (weight_kernel.hpp), lane by lane: written again in intrinsics, as
+    // its template would be compiled without AVX; test_weights holds the two to the same bits.
     __m256d p = one;
     if (eighths != 0) {
       const __m256d r2 = _mm256_sqrt_pd(q);

@@ -136,7 +136,7 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
   // neighbour, one at a time.
   std::size_t k = 0;
   if constexpr (Power::kTwoLanes) {
-    if (power.four_lanes) {
+    if (power.four_lanes && n >= 4) {
       k = four_lane_dyadic(power.whole, power.eighths, nu_z_min, dof, inv_scale_sq, r_sq, n, u,
                            &sum);
     }
