@@ -217,6 +217,45 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
 }
 
+// The default's pass: the plane model with pair normals of the source normals, dof 1.25 (three
+// square roots per pair). Arguments: source points; four points at a time (1, four_points.hpp,
+// where the CPU has AVX) or one (0); the pair normals formed afresh (0) or from the memo (1), as a
+// coarse solve's later passes form them. Clouds in Z-order, as a registration keeps them.
+void BM_NormalEquationsPairNormals(benchmark::State& state) {
+  Fixture f(static_cast<std::size_t>(state.range(0)), true);
+  std::vector<Eigen::Vector3d> target_normals, source_normals;
+  ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &target_normals);
+  ppcr::detail::KdTree source_tree;
+  (void)source_tree.build(f.source);
+  ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+  ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, nullptr, &points);
+  const ppcr::detail::PairNormalSource pair_source{&source_normals, small_motion().linear()};
+  ppcr::detail::PlaneModel plane;
+  plane.points = &points;
+  plane.pair_source = &pair_source;
+  ppcr::detail::WeightParams wp;
+  wp.dof = 1.25;
+  wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
+  f.ne.set_four_points(state.range(1) != 0);
+  std::vector<double> memo(f.w_new.size());
+  ppcr::detail::Evaluation out;
+  ppcr::detail::PairNormalMemo pm;
+  if (state.range(2) != 0) {
+    pm.slots = memo.data();
+    f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), nullptr, f.w_new.data(), nullptr,
+                  nullptr, &out, &plane, pm);
+    pm.fill = false;
+  }
+  for (auto _ : state) {
+    f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_new.data(), f.w_new.data(),
+                  nullptr, nullptr, &out, &plane, pm);
+    benchmark::DoNotOptimize(out.H);
+  }
+  state.counters["pairs"] = static_cast<double>(f.table.pairs);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.table.pairs));
+}
+
 // The pair normals of source normals (pair_normals.hpp): every pair's, as one plane pass forms
 // them. Target and source normals from 20 neighbours; argument: source points.
 void BM_PairNormals(benchmark::State& state) {
@@ -304,6 +343,12 @@ BENCHMARK(BM_EStepOnePoint)->Arg(500)->Arg(125)->Arg(270);
 BENCHMARK(BM_PairNormals)->Arg(10000);
 BENCHMARK(BM_NormalEquations)->Apply(PassArgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalEquationsPlane)->Apply(PassArgs)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NormalEquationsPairNormals)
+    ->Args({10000, 0, 0})
+    ->Args({10000, 1, 0})
+    ->Args({10000, 0, 1})
+    ->Args({10000, 1, 1})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Registration)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -7,6 +7,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "four_points.hpp"
 #include "pair_normals.hpp"
 #include "ppcr/se3.hpp"
 #include "thread_pool.hpp"
@@ -245,7 +246,8 @@ template <bool kPlane, bool kPairNormals, class Kernel>
 void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
                            const AssociationTable& assoc, const Eigen::Isometry3d& T,
                            const double* w_prev, double* w_new, double* r_sq,
-                           const ThreadPool* pool, const PlaneModel* plane, PairNormalMemo memo) {
+                           const ThreadPool* pool, const PlaneModel* plane, PairNormalMemo memo,
+                           const DyadicStudentT* four_points) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const Eigen::Matrix3d R = T.linear();
@@ -277,17 +279,13 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         s.ebar_cross_p.setZero();
         s.S2.setZero();
         s.H.setZero();
-        for (std::size_t j = begin; j < end; ++j) {
+        // One source point's pairs: pair normals, squared errors, E-step, sums.
+        auto one_point = [&](std::size_t j) {
           const std::size_t count = assoc.count[j];
-          if (count == 0) continue;
           const std::size_t slot = j * k;
           const std::uint32_t* idx = &assoc.index[slot];
           double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
           double* w = &w_new[slot];
-          if (left_out != nullptr && left_out[j] != 0) {  // not in the solve: weight 0
-            std::fill_n(w, count, 0.0);
-            continue;
-          }
           const PairNormal* normals = nullptr;
           if constexpr (kPairNormals) {
             const Eigen::Vector3d m = R_pair * source_normals[j];
@@ -315,7 +313,60 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
           } else {
             accumulate_point(p, count, idx, target, r, pw.c, w, &s);
           }
+        };
+        // With four_points, runs of four points with the same number of pairs go through
+        // four_point_terms() (the same bits), the rest one at a time, every sum in the points'
+        // order.
+        std::size_t waiting[4];
+        std::size_t n_waiting = 0;
+        auto flush = [&] {
+          for (std::size_t i = 0; i < n_waiting; ++i) one_point(waiting[i]);
+          n_waiting = 0;
+        };
+        // The four waiting points, each with count pairs.
+        auto four_at_once = [&](std::size_t count) {
+          if constexpr (kPairNormals) {
+            FourPointRow rows[4];
+            for (int l = 0; l < 4; ++l) {
+              const std::size_t slot = waiting[l] * k;
+              rows[l].p = R * source[waiting[l]] + t;
+              rows[l].m = R_pair * source_normals[waiting[l]];
+              rows[l].idx = &assoc.index[slot];
+              rows[l].w_prev = w_prev != nullptr ? &w_prev[slot] : nullptr;
+              rows[l].memo = memo.slots != nullptr ? &memo.slots[slot] : nullptr;
+              rows[l].r = r_sq != nullptr ? &r_sq[slot] : nullptr;
+              rows[l].w = &w_new[slot];
+            }
+            const PairNormalMode mode = memo.slots == nullptr ? PairNormalMode::kFresh
+                                        : memo.fill           ? PairNormalMode::kFill
+                                                              : PairNormalMode::kFromMemo;
+            if (!four_point_terms(rows, count, points, epsilon, mode, *four_points, &s)) {
+              for (int l = 0; l < 4; ++l) one_point(waiting[l]);  // overflowing errors
+            }
+          }
+        };
+        for (std::size_t j = begin; j < end; ++j) {
+          const std::size_t count = assoc.count[j];
+          if (count == 0) continue;
+          if (left_out != nullptr && left_out[j] != 0) {  // not in the solve: weight 0
+            std::fill_n(&w_new[j * k], count, 0.0);
+            continue;
+          }
+          if constexpr (kPairNormals) {
+            if (four_points != nullptr && count <= kFourPointsMaxPairs) {
+              if (n_waiting > 0 && assoc.count[waiting[0]] != count) flush();
+              waiting[n_waiting++] = j;
+              if (n_waiting == 4) {
+                four_at_once(count);
+                n_waiting = 0;
+              }
+              continue;
+            }
+          }
+          flush();
+          one_point(j);
         }
+        flush();
         blocks_[static_cast<std::size_t>(b)] = s;
       });
 }
@@ -336,9 +387,17 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   assert(!use_pair_normals ||
          pair_normals_.size() >= blocks_.size() * static_cast<std::size_t>(assoc.k));
   assert(!use_plane || use_pair_normals || plane->information != nullptr);
+  // The pair normals' points four at a time (four_points.hpp) where the E-step's power is dyadic.
+  DyadicStudentT dyadic;
+  const bool four_points =
+      use_pair_normals && four_points_ && weights.model == WeightModel::kStudentT &&
+      dyadic_exponent(weights.dof, &dyadic.whole, &dyadic.eighths) && four_points_available();
+  dyadic.dof = weights.dof;
+  dyadic.inv_scale_sq = weights.inv_scale_sq;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
-        e_step, source, target, assoc, T, w_prev, w_new, r_sq, pool, plane, memo);
+        e_step, source, target, assoc, T, w_prev, w_new, r_sq, pool, plane, memo,
+        four_points ? &dyadic : nullptr);
   };
   with_weight_kernel<false>(weights.model, weights.dof, weights.inv_scale_sq,
                             [&](const auto& e_step) {

@@ -36,7 +36,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class ThreadPool;       // thread_pool.hpp
+struct DyadicStudentT;  // four_points.hpp
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
@@ -162,6 +163,10 @@ class NormalEquations {
                 double* w_new, double* r_sq, const ThreadPool* pool, Evaluation* out,
                 const PlaneModel* plane = nullptr, PairNormalMemo memo = {});
 
+  /// Whether evaluate() may take the pair normals' points four at a time (four_points.hpp) where
+  /// the CPU allows: on by default; the same results to the bit either way (tests compare).
+  void set_four_points(bool on) { four_points_ = on; }
+
   /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
   /// for a target point without a normal): the information of the surface-normal part of the
   /// plane model alone (no epsilon), whose null directions are the motions the target's geometry
@@ -179,8 +184,9 @@ class NormalEquations {
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
             double* w_new, double* r_sq, const ThreadPool* pool, const PlaneModel* plane,
-            PairNormalMemo memo);
+            PairNormalMemo memo, const DyadicStudentT* four_points);
   std::vector<BlockSums> blocks_;
+  bool four_points_ = true;
   // With pair normals, k per block of source points: the pass forms a point's there.
   std::vector<PairNormal> pair_normals_;
 };

@@ -181,6 +181,18 @@ inline PointWeights gaussian_weights(double inv_scale_sq, const double* r_sq, do
   return out;
 }
 
+/// True when the Student-t exponent e = (dof + 3) / 2 has 8e an integer and e <= 32 (PowerDyadic;
+/// e = 4 too, which PowerFour takes in the same bits): then *whole = floor(e) and *eighths =
+/// 8 (e - floor(e)).
+inline bool dyadic_exponent(double dof, int* whole, int* eighths) {
+  const double exponent = 0.5 * (dof + 3.0);
+  const double e8 = 8.0 * exponent;
+  if (!(e8 == std::floor(e8) && exponent <= 32.0)) return false;
+  *whole = static_cast<int>(std::floor(exponent));
+  *eighths = static_cast<int>(e8) - 8 * *whole;
+  return true;
+}
+
 /// Calls f(kernel) with kernel(r_sq, r_min, n, u) -> PointWeights specialised for the model and
 /// dof, so that the choice is made once per pass, not once per point. Without kLogSumExp the kernel
 /// leaves PointWeights::log_sum_exp at 0 (except on the overflow path).
@@ -193,15 +205,14 @@ void with_weight_kernel(WeightModel model, double dof, double inv_scale_sq, F&& 
     return;
   }
   const double exponent = 0.5 * (dof + 3.0);
-  const double eighths = 8.0 * exponent;
+  int whole = 0, eighths = 0;
   if (exponent == 4.0) {
     f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
       return student_t_weights<kLogSumExp>(PowerFour(), dof, exponent, inv_scale_sq, r_sq, r_min, n,
                                            u);
     });
-  } else if (eighths == std::floor(eighths) && exponent <= 32.0) {
-    const int whole = static_cast<int>(std::floor(exponent));
-    const PowerDyadic power{whole, static_cast<int>(eighths) - 8 * whole, four_lanes_available()};
+  } else if (dyadic_exponent(dof, &whole, &eighths)) {
+    const PowerDyadic power{whole, eighths, four_lanes_available()};
     f([=](const double* r_sq, double r_min, std::size_t n, double* u) {
       return student_t_weights<kLogSumExp>(power, dof, exponent, inv_scale_sq, r_sq, r_min, n, u);
     });

@@ -460,9 +460,16 @@ TEST_CASE("A solve that keeps its pair normals in the spare weights equals one t
     CHECK(a.final_cost == b.final_cost);
     CHECK(forming.last().H == keeping.last().H);
     CHECK(forming.last().g == keeping.last().g);
-    const std::size_t slots = scene.assoc.index.size();
-    CHECK(std::equal(forming.weights().data(), forming.weights().data() + slots,
-                     keeping.weights().data()));
+    // The weights of every row's pairs (the slots past a row's count are not the solve's: the
+    // buffer leaves them as it found them, so two solvers' may differ).
+    std::size_t differ = 0;
+    for (std::size_t j = 0; j < scene.assoc.count.size(); ++j) {
+      const std::size_t slot = j * static_cast<std::size_t>(IrlsScene::kNeighbours);
+      differ += !std::equal(forming.weights().data() + slot,
+                            forming.weights().data() + slot + scene.assoc.count[j],
+                            keeping.weights().data() + slot);
+    }
+    CHECK(differ == 0);
     // Several passes read the memo; without tolerances some steps were rejected.
     CHECK(a.successful_steps >= 3);
     if (!tolerances) CHECK(a.unsuccessful_steps >= 3);

@@ -9,6 +9,7 @@
 
 #include "association.hpp"
 #include "core_test_util.hpp"
+#include "four_points.hpp"
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
 #include "pair_normal_reference.hpp"
@@ -849,6 +850,121 @@ TEST_CASE("pack_plane_points holds Omega = a I + n n^T and b = Omega y", "[norma
     for (std::size_t i = 0; i < pb.target.size(); ++i) {
       CHECK(std::memcmp(&points[i], &packed.points[i], sizeof(points[i])) == 0);
       CHECK(std::memcmp(&information[i], &packed.information[i], sizeof(information[i])) == 0);
+    }
+  }
+}
+
+// ------------------------------------------------------------------ four points at a time
+
+namespace {
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+template <class T>
+bool same_bits(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("pair normals four points at a time equal one point at a time, to the bit",
+          "[normal_equations]") {
+  // four_points.hpp: where the CPU has AVX, evaluate() takes runs of four points with the same
+  // number of pairs in lanes. Against the one-point path (set_four_points(false)), with memcmp:
+  // every output (H, g, costs, weights, squared errors, the pair normals' memo), for dyadic
+  // powers (dof 1.25, 1.5, 3, 5) and others (dof 2.3: std::pow; Gaussian), without a memo,
+  // filling it and reading it back at another pose, w_prev apart and in place, with and without
+  // r_sq, rows left out, rows with more pairs than the path takes (k = 20 > 16), target and
+  // source points without normals, rows whose errors all overflow, 1 and 2 threads.
+  if (!ppcr::detail::four_points_available()) {
+    WARN("four_points: this CPU has no AVX; only the one-point path runs here");
+    return;
+  }
+  struct Case {
+    int k;
+    double radius;
+  };
+  for (const Case& cs : {Case{6, 0.17}, Case{10, 0.2}, Case{20, 0.3}}) {
+    Problem pb = make_problem(201 + static_cast<std::uint64_t>(cs.k), 3000, cs.k, cs.radius);
+    pb.assoc.left_out.assign(pb.source.size(), 0);
+    for (std::size_t j = 0; j < pb.source.size(); j += 7) pb.assoc.left_out[j] = 1;
+    pb.assoc.any_left_out = true;
+    pb.assoc.recount();
+    // Rows of every length, many runs of four alike (the path's) and many broken runs.
+    std::size_t full = 0, partial = 0;
+    for (std::size_t j = 0; j < pb.source.size(); ++j) {
+      full += pb.assoc.count[j] == static_cast<std::size_t>(cs.k);
+      partial += pb.assoc.count[j] > 0 && pb.assoc.count[j] < static_cast<std::size_t>(cs.k);
+    }
+    INFO("full " << full << " partial " << partial);
+    REQUIRE(full > 100);
+    REQUIRE(partial > 100);
+    const EveryModel every(pb, 211);
+    const ppcr::detail::PlaneModel* plane = every.models()[2];
+    const std::size_t slots = pb.source.size() * static_cast<std::size_t>(cs.k);
+    std::vector<WeightParams> params = {{ppcr::WeightModel::kStudentT, 1.25, 1.0 / (0.03 * 0.03)},
+                                        {ppcr::WeightModel::kStudentT, 1.5, 1.0},
+                                        {ppcr::WeightModel::kStudentT, 3.0, 1.0 / (0.05 * 0.05)},
+                                        {ppcr::WeightModel::kStudentT, 5.0, 1.0},
+                                        {ppcr::WeightModel::kStudentT, 2.3, 1.0},
+                                        {ppcr::WeightModel::kGaussian, 5.0, 1.0},
+                                        {ppcr::WeightModel::kStudentT, 1.25, 1e308}};
+    const Eigen::Isometry3d T_next =
+        core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
+    for (const WeightParams& wp : params) {
+      // 1e308: far off, a row's errors overflow where its nearest pair's does (z_min = +inf);
+      // the nearer rows do not, so runs of four mix both.
+      Eigen::Isometry3d T = pb.T;
+      if (wp.inv_scale_sq > 1e300) T.pretranslate(Eigen::Vector3d(0.0, 0.0, 0.3));
+      for (int threads : {1, 2}) {
+        for (int memo_mode = 0; memo_mode < 2; ++memo_mode) {
+          for (bool in_place : {false, true}) {
+            Evaluation eval[2], next[2];
+            std::vector<double> w[2], r_sq[2], memo[2], w_next[2];
+            for (int four = 0; four < 2; ++four) {
+              NormalEquations ne;
+              ne.resize(pb.source.size(), cs.k);
+              ne.set_four_points(four == 1);
+              w[four] = every.w_prev;
+              r_sq[four].assign(slots, -1.0);
+              memo[four].assign(slots, -7.0);
+              ppcr::detail::PairNormalMemo pm;
+              if (memo_mode == 1) pm = {memo[four].data(), true};
+              std::vector<double> separate(slots, 0.0);
+              double* w_out = in_place ? w[four].data() : separate.data();
+              ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w[four].data(), w_out,
+                          in_place ? nullptr : r_sq[four].data(), core_test::pool(threads),
+                          &eval[four], plane, pm);
+              if (!in_place) w[four] = separate;
+              // The memo read back at another pose (a later pass of the same solve).
+              w_next[four] = w[four];
+              if (memo_mode == 1) pm.fill = false;
+              ne.evaluate(pb.source, pb.target, pb.assoc, wp, T_next, w_next[four].data(),
+                          w_next[four].data(), nullptr, core_test::pool(threads), &next[four],
+                          plane, pm);
+            }
+            INFO("k " << cs.k << " dof " << wp.dof << " gaussian "
+                      << (wp.model == ppcr::WeightModel::kGaussian) << " inv_scale_sq "
+                      << wp.inv_scale_sq << " threads " << threads << " memo " << memo_mode
+                      << " in place " << in_place);
+            for (const auto* e : {&eval, &next}) {
+              CHECK(same_bits((*e)[0].H, (*e)[1].H));
+              CHECK(same_bits((*e)[0].g, (*e)[1].g));
+              CHECK(same_bits((*e)[0].cost, (*e)[1].cost));
+              CHECK(same_bits((*e)[0].cost_prev_weights, (*e)[1].cost_prev_weights));
+              CHECK(same_bits((*e)[0].weight_sum, (*e)[1].weight_sum));
+            }
+            CHECK(same_bits(w[0], w[1]));
+            CHECK(same_bits(w_next[0], w_next[1]));
+            CHECK(same_bits(r_sq[0], r_sq[1]));
+            CHECK(same_bits(memo[0], memo[1]));
+            CHECK(eval[0].weight_sum > 0.0);
+            CHECK(!same_bits(w[0], w_next[0]));  // the second pass did move
+          }
+        }
+      }
     }
   }
 }
