@@ -36,7 +36,7 @@ PPCR_AVX inline __m256d dot3(__m256d xa, __m256d xb, __m256d xc, __m256d ya, __m
 }
 
 // mask ? b : a, lane by lane, for a mask of a comparison (all bits set or none): bitwise, since
-// GCC 12 takes a blend for AVX alone apart into scalar branches.
+// GCC 12 (the version measured) takes a blend for AVX alone apart into scalar branches.
 PPCR_AVX inline __m256d select(__m256d mask, __m256d b, __m256d a) {
   return _mm256_or_pd(_mm256_and_pd(mask, b), _mm256_andnot_pd(mask, a));
 }
@@ -66,25 +66,31 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   const __m256d one = _mm256_set1_pd(1.0);
   const __m256d sign_bit = _mm256_set1_pd(-0.0);
   const __m256d eps = _mm256_set1_pd(epsilon);
-  const __m256d px = _mm256_setr_pd(rows[0].p.x(), rows[1].p.x(), rows[2].p.x(), rows[3].p.x());
-  const __m256d py = _mm256_setr_pd(rows[0].p.y(), rows[1].p.y(), rows[2].p.y(), rows[3].p.y());
-  const __m256d pz = _mm256_setr_pd(rows[0].p.z(), rows[1].p.z(), rows[2].p.z(), rows[3].p.z());
-  const __m256d mx = _mm256_setr_pd(rows[0].m.x(), rows[1].m.x(), rows[2].m.x(), rows[3].m.x());
-  const __m256d my = _mm256_setr_pd(rows[0].m.y(), rows[1].m.y(), rows[2].m.y(), rows[3].m.y());
-  const __m256d mz = _mm256_setr_pd(rows[0].m.z(), rows[1].m.z(), rows[2].m.z(), rows[3].m.z());
+  const __m256d px = _mm256_setr_pd(rows[0].p_target.x(), rows[1].p_target.x(),
+                                    rows[2].p_target.x(), rows[3].p_target.x());
+  const __m256d py = _mm256_setr_pd(rows[0].p_target.y(), rows[1].p_target.y(),
+                                    rows[2].p_target.y(), rows[3].p_target.y());
+  const __m256d pz = _mm256_setr_pd(rows[0].p_target.z(), rows[1].p_target.z(),
+                                    rows[2].p_target.z(), rows[3].p_target.z());
+  const __m256d mx = _mm256_setr_pd(rows[0].normal_target.x(), rows[1].normal_target.x(),
+                                    rows[2].normal_target.x(), rows[3].normal_target.x());
+  const __m256d my = _mm256_setr_pd(rows[0].normal_target.y(), rows[1].normal_target.y(),
+                                    rows[2].normal_target.y(), rows[3].normal_target.y());
+  const __m256d mz = _mm256_setr_pd(rows[0].normal_target.z(), rows[1].normal_target.z(),
+                                    rows[2].normal_target.z(), rows[3].normal_target.z());
 
   // 1. Pair normals (pair_normals.cpp) and squared errors (squared_errors, normal_equations.cpp).
   __m256d r_min = zero;
   for (std::size_t m = 0; m < count; ++m) {
-    const PlanePoint* t[4] = {&points[rows[0].idx[m]], &points[rows[1].idx[m]],
-                              &points[rows[2].idx[m]], &points[rows[3].idx[m]]};
+    const PlanePoint* record[4] = {&points[rows[0].idx[m]], &points[rows[1].idx[m]],
+                                   &points[rows[2].idx[m]], &points[rows[3].idx[m]]};
     __m256d yx, yy, yz, unused, nx, ny, nz;
-    transpose(_mm256_loadu_pd(t[0]->y.data()), _mm256_loadu_pd(t[1]->y.data()),
-              _mm256_loadu_pd(t[2]->y.data()), _mm256_loadu_pd(t[3]->y.data()), &yx, &yy, &yz,
-              &unused);
-    transpose(_mm256_loadu_pd(t[0]->n.data()), _mm256_loadu_pd(t[1]->n.data()),
-              _mm256_loadu_pd(t[2]->n.data()), _mm256_loadu_pd(t[3]->n.data()), &nx, &ny, &nz,
-              &unused);
+    transpose(_mm256_loadu_pd(record[0]->y.data()), _mm256_loadu_pd(record[1]->y.data()),
+              _mm256_loadu_pd(record[2]->y.data()), _mm256_loadu_pd(record[3]->y.data()), &yx, &yy,
+              &yz, &unused);
+    transpose(_mm256_loadu_pd(record[0]->n.data()), _mm256_loadu_pd(record[1]->n.data()),
+              _mm256_loadu_pd(record[2]->n.data()), _mm256_loadu_pd(record[3]->n.data()), &nx, &ny,
+              &nz, &unused);
     __m256d sign, q, no_normal;  // sign: the flip in the sign bit; no_normal: s = 0
     if (mode == PairNormalMode::kFromMemo) {
       const __m256d memo =
@@ -134,8 +140,8 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   for (std::size_t m = 0; m < count; ++m) _mm256_store_pd(r_lanes[m], rs[m]);
   double prev = sums->cost_prev;
   for (int l = 0; l < 4; ++l) {
-    if (rows[l].r != nullptr) {
-      for (std::size_t m = 0; m < count; ++m) rows[l].r[m] = r_lanes[m][l];
+    if (rows[l].r_sq != nullptr) {
+      for (std::size_t m = 0; m < count; ++m) rows[l].r_sq[m] = r_lanes[m][l];
     }
     if (rows[l].w_prev != nullptr) {  // read before any weight is written (w_prev may be w)
       for (std::size_t m = 0; m < count; ++m) prev += rows[l].w_prev[m] * r_lanes[m][l];
@@ -148,10 +154,11 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   __m256d* u = rs;  // u_k replaces r_k, read in its step's sum first
   __m256d ur = zero;
   for (std::size_t m = 0; m < count; ++m) {
-    const __m256d q = _mm256_div_pd(nu_z_min, _mm256_add_pd(dof, _mm256_mul_pd(rs[m], inv)));
-    const __m256d p = dyadic_power(q, e_step.whole, e_step.eighths);
-    sum = _mm256_add_pd(sum, p);
-    const __m256d um = _mm256_mul_pd(p, q);
+    const __m256d ratio =
+        _mm256_div_pd(nu_z_min, _mm256_add_pd(dof, _mm256_mul_pd(rs[m], inv)));  // q_k
+    const __m256d power = dyadic_power(ratio, e_step.whole, e_step.eighths);     // q_k^e
+    sum = _mm256_add_pd(sum, power);
+    const __m256d um = _mm256_mul_pd(power, ratio);
     ur = add_product(ur, um, rs[m]);  // accumulate_pair_normals' sum u r, in its order
     u[m] = um;
   }
@@ -213,7 +220,7 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   // p x (row 0 of M); (1,1), (1,2), (2,2) from rows 1 and 2 of M, as add_plane_point writes
   // them), Obar's three entries below row 3, ebar, ebar x p, the cost and the weight.
   constexpr int kTerms = 17;
-  alignas(32) double t[kTerms][4];
+  alignas(32) double lanes[kTerms][4];
   const __m256d terms[kTerms] = {difference_of_products(py, M02, pz, M01),
                                  difference_of_products(pz, M00, px, M02),
                                  difference_of_products(px, M01, py, M00),
@@ -231,7 +238,7 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
                                  difference_of_products(ebx, py, eby, px),
                                  _mm256_mul_pd(c, ur),
                                  _mm256_mul_pd(c, U)};
-  for (int i = 0; i < kTerms; ++i) _mm256_store_pd(t[i], terms[i]);
+  for (int i = 0; i < kTerms; ++i) _mm256_store_pd(lanes[i], terms[i]);
   // Columns 3-5 of H hold M and Obar's first row contiguously (column-major): (M_0c, M_1c, M_2c,
   // Obar_0c) at H(0, 3 + c), a row's four added as one vector.
   __m256d column[3][4];
@@ -244,23 +251,23 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
       double* h = &H(0, 3 + col);
       _mm256_storeu_pd(h, _mm256_add_pd(_mm256_loadu_pd(h), column[col][l]));
     }
-    H(0, 0) += t[0][l];
-    H(0, 1) += t[1][l];
-    H(0, 2) += t[2][l];
-    H(1, 1) += t[3][l];
-    H(1, 2) += t[4][l];
-    H(2, 2) += t[5][l];
-    H(4, 4) += t[6][l];
-    H(4, 5) += t[7][l];
-    H(5, 5) += t[8][l];
-    sums->ebar.x() += t[9][l];
-    sums->ebar.y() += t[10][l];
-    sums->ebar.z() += t[11][l];
-    sums->ebar_cross_p.x() += t[12][l];
-    sums->ebar_cross_p.y() += t[13][l];
-    sums->ebar_cross_p.z() += t[14][l];
-    sums->cost += t[15][l];
-    sums->S0 += t[16][l];
+    H(0, 0) += lanes[0][l];
+    H(0, 1) += lanes[1][l];
+    H(0, 2) += lanes[2][l];
+    H(1, 1) += lanes[3][l];
+    H(1, 2) += lanes[4][l];
+    H(2, 2) += lanes[5][l];
+    H(4, 4) += lanes[6][l];
+    H(4, 5) += lanes[7][l];
+    H(5, 5) += lanes[8][l];
+    sums->ebar.x() += lanes[9][l];
+    sums->ebar.y() += lanes[10][l];
+    sums->ebar.z() += lanes[11][l];
+    sums->ebar_cross_p.x() += lanes[12][l];
+    sums->ebar_cross_p.y() += lanes[13][l];
+    sums->ebar_cross_p.z() += lanes[14][l];
+    sums->cost += lanes[15][l];
+    sums->S0 += lanes[16][l];
   }
   return true;
 }

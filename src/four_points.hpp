@@ -6,7 +6,8 @@
 // normal_equations.cpp, the Student-t E-step of weight_kernel.hpp with a dyadic power): each
 // addition, product, division and square root correctly rounded (IEEE 754) whatever the vector
 // width, none contracted (-ffp-contract=off), every sum in its scalar order. So every output is
-// the same to the bit as the one-point path's (tests/core/test_normal_equations.cpp). Why: the
+// the same to the bit as the one-point path's (tests/core/test_normal_equations.cpp; a NaN's
+// sign and payload aside: the library drops non-finite points). Why: the
 // one-point path takes a point's pairs one or two at a time, and its gathers, divisions and
 // roots leave most of the vector width unused (docs/PERFORMANCE.md, "Four points at a time").
 #pragma once
@@ -36,13 +37,13 @@ enum class PairNormalMode { kFresh, kFill, kFromMemo };
 
 /// One source point of the four: its inputs, and where its outputs go.
 struct FourPointRow {
-  Eigen::Vector3d p;         // T x_j, in the target frame
-  Eigen::Vector3d m;         // R m_j: its source normal at the association's rotation
-  const std::uint32_t* idx;  // its count target indices
-  const double* w_prev;      // null, or its count previous weights
-  double* memo;              // its count memo slots (kFill, kFromMemo), else unused
-  double* r;                 // null, or room for its count squared errors
-  double* w;                 // its count weights, written
+  Eigen::Vector3d p_target;       // T x_j: the point in the target frame
+  Eigen::Vector3d normal_target;  // R m_j: its source normal at the association's rotation
+  const std::uint32_t* idx;       // its count target indices
+  const double* w_prev;           // null, or its count previous weights
+  double* memo;                   // its count memo slots (kFill, kFromMemo), else unused
+  double* r_sq;                   // null, or room for its count squared errors
+  double* w;                      // its count weights, written
 };
 
 /// The most pairs per point the four-point path takes (its stack holds them).
@@ -54,8 +55,9 @@ bool four_points_available();
 /// The four rows' pair normals, squared errors, E-step weights and terms of H, g and the costs,
 /// each row with `count` pairs (1 <= count <= kFourPointsMaxPairs), added to *sums as the
 /// one-point path adds them, row after row (w_prev . r to cost_prev for rows with w_prev).
-/// Returns false, having written no weight and not touched *sums, when a row's every error
-/// overflows (weight_kernel.hpp): the caller takes the rows one at a time then. Only when
+/// Returns false, having written no weight, squared error or sum (with kFill the memo may be
+/// written: the one-point path writes the same), when a row's every error overflows
+/// (weight_kernel.hpp): the caller takes the rows one at a time then. Only when
 /// four_points_available().
 bool four_point_terms(const FourPointRow rows[4], std::size_t count, const PlanePoint* points,
                       double epsilon, PairNormalMode mode, const DyadicStudentT& e_step,

@@ -116,8 +116,8 @@ inline double squared_errors(const Eigen::Vector3d& p, std::size_t count, const 
       if constexpr (kPairNormals) {
         // a |e|^2 + (n . e)^2 with n = s / |s|: a |e|^2 + q (s . e)^2.
         const PairNormal& nk = pair_normals[m];
-        const double se = nk.s.dot(e);
-        rm = pair_isotropic(nk, epsilon) * e.squaredNorm() + nk.q * (se * se);
+        const double se = dot_in_order(nk.s, e);
+        rm = pair_isotropic(nk, epsilon) * dot_in_order(e, e) + nk.q * (se * se);
       } else {
         const double ne = q.n.dot(e);
         rm = q.a * e.squaredNorm() + ne * ne;
@@ -329,12 +329,12 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
             FourPointRow rows[4];
             for (int l = 0; l < 4; ++l) {
               const std::size_t slot = waiting[l] * k;
-              rows[l].p = R * source[waiting[l]] + t;
-              rows[l].m = R_pair * source_normals[waiting[l]];
+              rows[l].p_target = R * source[waiting[l]] + t;
+              rows[l].normal_target = R_pair * source_normals[waiting[l]];
               rows[l].idx = &assoc.index[slot];
               rows[l].w_prev = w_prev != nullptr ? &w_prev[slot] : nullptr;
               rows[l].memo = memo.slots != nullptr ? &memo.slots[slot] : nullptr;
-              rows[l].r = r_sq != nullptr ? &r_sq[slot] : nullptr;
+              rows[l].r_sq = r_sq != nullptr ? &r_sq[slot] : nullptr;
               rows[l].w = &w_new[slot];
             }
             const PairNormalMode mode = memo.slots == nullptr ? PairNormalMode::kFresh

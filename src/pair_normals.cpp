@@ -43,7 +43,7 @@ void pair_normals_of_point(const Eigen::Vector3d& m, const std::uint32_t* idx, s
   auto axis = [&m](const Eigen::Vector3d& n, bool* flip) -> Eigen::Vector3d {
     *flip = false;
     if (n.squaredNorm() == 0.0) return Eigen::Vector3d::Zero();
-    *flip = !(n.dot(m) >= 0.0);
+    *flip = !(dot_in_order(n, m) >= 0.0);
     return n + negated_if(*flip, m);
   };
   auto inverse_sq = [](const Eigen::Vector3d& v) {

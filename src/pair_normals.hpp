@@ -13,6 +13,13 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
+/// a . b summed as (a_x b_x + a_y b_y) + a_z b_z, written out (not Eigen's dot(), whose order
+/// depends on whether it vectorises doubles), so that the plane pass's one-point and four-point
+/// paths (four_points.hpp) sum in the same order in every build.
+inline double dot_in_order(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
+}
+
 /// The normals of one source point's pairs, formed in the plane pass (normal_equations.cpp) from
 /// PairNormalSource: for its i-th pair (target point y = idx[i], normal n = target_points[y].n)
 /// and m = R m_j, its source normal in the target frame at the association's rotation R,

@@ -2,6 +2,7 @@
 // Jacobians, sum of w J^T J over every pair), against Jacobians and gradients obtained by central
 // differences of the error through ppcr::se3::exp (so the analytic form is not trusted), and for
 // independence of the thread count.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <utility>
@@ -906,6 +907,7 @@ TEST_CASE("pair normals four points at a time equal one point at a time, to the 
     const std::size_t slots = pb.source.size() * static_cast<std::size_t>(cs.k);
     std::vector<WeightParams> params = {{ppcr::WeightModel::kStudentT, 1.25, 1.0 / (0.03 * 0.03)},
                                         {ppcr::WeightModel::kStudentT, 1.5, 1.0},
+                                        {ppcr::WeightModel::kStudentT, 2.0, 1.0 / (0.1 * 0.1)},
                                         {ppcr::WeightModel::kStudentT, 3.0, 1.0 / (0.05 * 0.05)},
                                         {ppcr::WeightModel::kStudentT, 5.0, 1.0},
                                         {ppcr::WeightModel::kStudentT, 2.3, 1.0},
@@ -914,10 +916,12 @@ TEST_CASE("pair normals four points at a time equal one point at a time, to the 
     const Eigen::Isometry3d T_next =
         core_test::make_pose(Eigen::Vector3d(1, 0, 1), 0.02, Eigen::Vector3d(0, 0.01, 0)) * pb.T;
     for (const WeightParams& wp : params) {
-      // 1e308: far off, a row's errors overflow where its nearest pair's does (z_min = +inf);
-      // the nearer rows do not, so runs of four mix both.
+      // 1e308: 3 off, a row's errors overflow where its nearest pair's r exceeds DBL_MAX / 1e308
+      // = 1.8 (z_min = +inf; r is 0.05 |e|^2 + (n . e)^2 with |e| near 3); rows whose pairs'
+      // normals lie across the shift do not, so runs of four mix both (checked below).
+      const bool overflow = wp.inv_scale_sq > 1e300;
       Eigen::Isometry3d T = pb.T;
-      if (wp.inv_scale_sq > 1e300) T.pretranslate(Eigen::Vector3d(0.0, 0.0, 0.3));
+      if (overflow) T.pretranslate(Eigen::Vector3d(0.0, 0.0, 3.0));
       for (int threads : {1, 2}) {
         for (int memo_mode = 0; memo_mode < 2; ++memo_mode) {
           for (bool in_place : {false, true}) {
@@ -962,6 +966,20 @@ TEST_CASE("pair normals four points at a time equal one point at a time, to the 
             CHECK(same_bits(memo[0], memo[1]));
             CHECK(eval[0].weight_sum > 0.0);
             CHECK(!same_bits(w[0], w_next[0]));  // the second pass did move
+            if (overflow) {  // rows overflowed (c = 0: every weight 0), and others did not
+              std::size_t zero_rows = 0, weighted_rows = 0;
+              for (std::size_t j = 0; j < pb.source.size(); ++j) {
+                const std::size_t count = pb.assoc.count[j];
+                if (count == 0 || pb.assoc.left_out[j] != 0) continue;
+                const double* wj = &w[0][j * static_cast<std::size_t>(cs.k)];
+                const bool all_zero =
+                    std::all_of(wj, wj + count, [](double x) { return x == 0.0; });
+                zero_rows += all_zero;
+                weighted_rows += !all_zero;
+              }
+              CHECK(zero_rows > 50);
+              CHECK(weighted_rows > 50);
+            }
           }
         }
       }
