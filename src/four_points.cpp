@@ -28,7 +28,14 @@ PPCR_AVX inline void transpose(__m256d r0, __m256d r1, __m256d r2, __m256d r3, _
   *c3 = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
-// (x_a y_a + x_b y_b) + x_c y_c: Eigen's order for a 3-vector's dot product and squared norm.
+// Coordinate `axis` of each row's vector `field`, a lane per row.
+PPCR_AVX inline __m256d lanes(const FourPointRow rows[4], Eigen::Vector3d FourPointRow::*field,
+                              int axis) {
+  return _mm256_setr_pd((rows[0].*field)[axis], (rows[1].*field)[axis], (rows[2].*field)[axis],
+                        (rows[3].*field)[axis]);
+}
+
+// (x_a y_a + x_b y_b) + x_c y_c, dot_in_order's order (pair_normals.hpp), lane by lane.
 PPCR_AVX inline __m256d dot3(__m256d xa, __m256d xb, __m256d xc, __m256d ya, __m256d yb,
                              __m256d yc) {
   return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xa, ya), _mm256_mul_pd(xb, yb)),
@@ -66,18 +73,12 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   const __m256d one = _mm256_set1_pd(1.0);
   const __m256d sign_bit = _mm256_set1_pd(-0.0);
   const __m256d eps = _mm256_set1_pd(epsilon);
-  const __m256d px = _mm256_setr_pd(rows[0].p_target.x(), rows[1].p_target.x(),
-                                    rows[2].p_target.x(), rows[3].p_target.x());
-  const __m256d py = _mm256_setr_pd(rows[0].p_target.y(), rows[1].p_target.y(),
-                                    rows[2].p_target.y(), rows[3].p_target.y());
-  const __m256d pz = _mm256_setr_pd(rows[0].p_target.z(), rows[1].p_target.z(),
-                                    rows[2].p_target.z(), rows[3].p_target.z());
-  const __m256d mx = _mm256_setr_pd(rows[0].normal_target.x(), rows[1].normal_target.x(),
-                                    rows[2].normal_target.x(), rows[3].normal_target.x());
-  const __m256d my = _mm256_setr_pd(rows[0].normal_target.y(), rows[1].normal_target.y(),
-                                    rows[2].normal_target.y(), rows[3].normal_target.y());
-  const __m256d mz = _mm256_setr_pd(rows[0].normal_target.z(), rows[1].normal_target.z(),
-                                    rows[2].normal_target.z(), rows[3].normal_target.z());
+  const __m256d px = lanes(rows, &FourPointRow::p_target, 0);
+  const __m256d py = lanes(rows, &FourPointRow::p_target, 1);
+  const __m256d pz = lanes(rows, &FourPointRow::p_target, 2);
+  const __m256d mx = lanes(rows, &FourPointRow::normal_target, 0);
+  const __m256d my = lanes(rows, &FourPointRow::normal_target, 1);
+  const __m256d mz = lanes(rows, &FourPointRow::normal_target, 2);
 
   // 1. Pair normals (pair_normals.cpp) and squared errors (squared_errors, normal_equations.cpp).
   __m256d r_min = zero;
