@@ -177,6 +177,20 @@ struct Fixture {
   ppcr::detail::NormalEquations ne;
 };
 
+// Both clouds' normals from 20 neighbours, and the target's plane records (epsilon 0.05).
+struct NormalsFixture {
+  explicit NormalsFixture(const Fixture& f) {
+    std::vector<Eigen::Vector3d> target_normals;
+    ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &target_normals);
+    ppcr::detail::KdTree source_tree;
+    (void)source_tree.build(f.source);
+    ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
+    ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, nullptr, &points);
+  }
+  std::vector<Eigen::Vector3d> source_normals;
+  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
+};
+
 // Arguments: source points, threads, clouds in Z-order (1) or in sampling order (0).
 void BM_NormalEquations(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
@@ -223,13 +237,9 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
 // coarse solve's later passes form them. Clouds in Z-order, as a registration keeps them.
 void BM_NormalEquationsPairNormals(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), true);
-  std::vector<Eigen::Vector3d> target_normals, source_normals;
-  ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &target_normals);
-  ppcr::detail::KdTree source_tree;
-  (void)source_tree.build(f.source);
-  ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
-  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, nullptr, &points);
+  const NormalsFixture n(f);
+  const std::vector<Eigen::Vector3d>& source_normals = n.source_normals;
+  const ppcr::detail::Buffer<ppcr::detail::PlanePoint>& points = n.points;
   const ppcr::detail::PairNormalSource pair_source{&source_normals, small_motion().linear()};
   ppcr::detail::PlaneModel plane;
   plane.points = &points;
@@ -260,13 +270,9 @@ void BM_NormalEquationsPairNormals(benchmark::State& state) {
 // them. Target and source normals from 20 neighbours; argument: source points.
 void BM_PairNormals(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), true);
-  std::vector<Eigen::Vector3d> target_normals, source_normals;
-  ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &target_normals);
-  ppcr::detail::KdTree source_tree;
-  (void)source_tree.build(f.source);
-  ppcr::detail::compute_normals(f.source, source_tree, 20, nullptr, &source_normals);
-  ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
-  ppcr::detail::pack_plane_points(f.target, target_normals, 0.05, nullptr, &points);
+  const NormalsFixture n(f);
+  const std::vector<Eigen::Vector3d>& source_normals = n.source_normals;
+  const ppcr::detail::Buffer<ppcr::detail::PlanePoint>& points = n.points;
   const std::size_t k = static_cast<std::size_t>(f.table.k);
   std::vector<ppcr::detail::PairNormal> pair_normals(k);
   const Eigen::Matrix3d R = small_motion().linear();
