@@ -60,8 +60,6 @@ PPCR_AVX inline __m256d add_product(__m256d acc, __m256d a, __m256d b) {
 
 }  // namespace
 
-bool four_points_available() { return four_lanes_available(); }
-
 PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
                                const PlanePoint* points, double epsilon, PairNormalMode mode,
                                const DyadicStudentT& e_step, BlockSums* sums) {
@@ -274,8 +272,6 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
 }
 
 #else
-
-bool four_points_available() { return false; }
 
 bool four_point_terms(const FourPointRow*, std::size_t, const PlanePoint*, double, PairNormalMode,
                       const DyadicStudentT&, BlockSums*) {

@@ -49,16 +49,13 @@ struct FourPointRow {
 /// The most pairs per point the four-point path takes (its stack holds them).
 constexpr std::size_t kFourPointsMaxPairs = 16;
 
-/// True when four_point_terms() runs on this CPU (four_lanes_available()).
-bool four_points_available();
-
 /// The four rows' pair normals, squared errors, E-step weights and terms of H, g and the costs,
 /// each row with `count` pairs (1 <= count <= kFourPointsMaxPairs), added to *sums as the
 /// one-point path adds them, row after row (w_prev . r to cost_prev for rows with w_prev).
 /// Returns false, having written no weight, squared error or sum (with kFill the memo may be
 /// written: the one-point path writes the same), when a row's every error overflows
 /// (weight_kernel.hpp): the caller takes the rows one at a time then. Only when
-/// four_points_available().
+/// four_lanes_available() (four_lanes.hpp).
 bool four_point_terms(const FourPointRow rows[4], std::size_t count, const PlanePoint* points,
                       double epsilon, PairNormalMode mode, const DyadicStudentT& e_step,
                       BlockSums* sums);

@@ -7,6 +7,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "four_lanes.hpp"
 #include "four_points.hpp"
 #include "pair_normals.hpp"
 #include "ppcr/se3.hpp"
@@ -391,7 +392,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   DyadicStudentT dyadic;
   const bool four_points =
       use_pair_normals && four_points_ && weights.model == WeightModel::kStudentT &&
-      dyadic_exponent(weights.dof, &dyadic.whole, &dyadic.eighths) && four_points_available();
+      dyadic_exponent(weights.dof, &dyadic.whole, &dyadic.eighths) && four_lanes_available();
   dyadic.dof = weights.dof;
   dyadic.inv_scale_sq = weights.inv_scale_sq;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {

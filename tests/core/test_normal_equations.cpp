@@ -10,6 +10,7 @@
 
 #include "association.hpp"
 #include "core_test_util.hpp"
+#include "four_lanes.hpp"
 #include "four_points.hpp"
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
@@ -879,7 +880,7 @@ TEST_CASE("pair normals four points at a time equal one point at a time, to the 
   // filling it and reading it back at another pose, w_prev apart and in place, with and without
   // r_sq, rows left out, rows with more pairs than the path takes (k = 20 > 16), target and
   // source points without normals, rows whose errors all overflow, 1 and 2 threads.
-  if (!ppcr::detail::four_points_available()) {
+  if (!ppcr::detail::four_lanes_available()) {
     WARN("four_points: this CPU has no AVX; only the one-point path runs here");
     return;
   }
