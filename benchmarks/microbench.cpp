@@ -350,10 +350,7 @@ BENCHMARK(BM_PairNormals)->Arg(10000);
 BENCHMARK(BM_NormalEquations)->Apply(PassArgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalEquationsPlane)->Apply(PassArgs)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NormalEquationsPairNormals)
-    ->Args({10000, 0, 0})
-    ->Args({10000, 1, 0})
-    ->Args({10000, 0, 1})
-    ->Args({10000, 1, 1})
+    ->ArgsProduct({{10000}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LMSolve)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Registration)->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond);

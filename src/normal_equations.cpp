@@ -264,6 +264,9 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const Eigen::Matrix3d R_pair =
       kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
   const double epsilon = kPlane ? plane->epsilon : 1.0;
+  const PairNormalMode pair_mode = memo.slots == nullptr ? PairNormalMode::kFresh
+                                   : memo.fill           ? PairNormalMode::kFill
+                                                         : PairNormalMode::kFromMemo;
   const std::uint8_t* left_out = assoc.any_left_out ? assoc.left_out.data() : nullptr;
 
   parallel_for_blocks(
@@ -290,7 +293,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
           const PairNormal* normals = nullptr;
           if constexpr (kPairNormals) {
             const Eigen::Vector3d m = R_pair * source_normals[j];
-            if (memo.slots == nullptr || memo.fill) {
+            if (pair_mode != PairNormalMode::kFromMemo) {
               pair_normals_of_point(m, idx, count, points, normals_local,
                                     memo.slots != nullptr ? &memo.slots[slot] : nullptr);
             } else {
@@ -338,10 +341,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
               rows[l].r_sq = r_sq != nullptr ? &r_sq[slot] : nullptr;
               rows[l].w = &w_new[slot];
             }
-            const PairNormalMode mode = memo.slots == nullptr ? PairNormalMode::kFresh
-                                        : memo.fill           ? PairNormalMode::kFill
-                                                              : PairNormalMode::kFromMemo;
-            if (!four_point_terms(rows, count, points, epsilon, mode, *four_points, &s)) {
+            if (!four_point_terms(rows, count, points, epsilon, pair_mode, *four_points, &s)) {
               for (int l = 0; l < 4; ++l) one_point(waiting[l]);  // overflowing errors
             }
           }
