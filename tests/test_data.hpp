@@ -15,4 +15,13 @@ inline std::string data_dir() {
 
 inline std::string data_path(const std::string& relative) { return data_dir() + "/" + relative; }
 
+/// True under CI=true or PPCR_STRICT=1 (tools/test.sh sets it in CI): what would be skipped for
+/// want of data or a tool must fail instead.
+inline bool strict() {
+  const char* ci = std::getenv("CI");
+  const char* flag = std::getenv("PPCR_STRICT");
+  return (ci != nullptr && std::string(ci) == "true") ||
+         (flag != nullptr && std::string(flag) == "1");
+}
+
 }  // namespace ppcr_test

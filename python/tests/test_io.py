@@ -13,7 +13,7 @@ import ppcr
 def manifest(data_dir):
     path = data_dir / "io" / "MANIFEST.json"
     if not path.is_file():
-        pytest.skip(f"reader fixtures not found: {path}")
+        pytest.fail(f"reader fixtures not found: {path}", pytrace=False)
     return path.parent, json.loads(path.read_text())
 
 

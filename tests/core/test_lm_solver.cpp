@@ -213,7 +213,7 @@ TEST_CASE("No associations: kNoResiduals, pose untouched", "[lm]") {
   CHECK(T.matrix() == T0.matrix());
 }
 
-TEST_CASE("max_iterations is respected; max_iterations = 1 gives exactly one step", "[lm]") {
+TEST_CASE("max_iterations is respected, max_iterations = 1 gives exactly one step", "[lm]") {
   Rng rng(65);
   const PointCloud source = core_test::uniform_cloud(rng, 300, -1.0, 1.0);
   const AssociationTable assoc = identity_table(source.size());

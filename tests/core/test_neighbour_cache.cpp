@@ -416,7 +416,7 @@ TEST_CASE("associate_cached: exact ties at the k-th distance resolve alike for f
 }
 
 TEST_CASE(
-    "associate_cached: a seeded query keeps the unbounded query's candidates, ties included; "
+    "associate_cached: a seeded query keeps the unbounded query's candidates, ties included, "
     "also seeded by the previous point's list",
     "[association]") {
   // From cell centres (capacity 17: 8 points at sqrt(0.75), then 9 of 24 at sqrt(2.75), so B_j =
@@ -605,7 +605,7 @@ TEST_CASE(
   }
 }
 
-TEST_CASE("spread_lists: row i lands at row i * stride, on 1 and 2 threads; the others list-less",
+TEST_CASE("spread_lists: row i lands at row i * stride, on 1 and 2 threads, the others list-less",
           "[association]") {
   // Rows that name their source row, so that a row taken from the wrong place, or overwritten
   // before it was read, shows. 6000 rows: the rounds then span several blocks each, so that two

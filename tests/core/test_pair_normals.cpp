@@ -76,7 +76,7 @@ std::vector<Eigen::Vector3d> run(const Case& c) {
 
 }  // namespace
 
-TEST_CASE("pair normals equal the reference; slots past the count are not written",
+TEST_CASE("pair normals equal the reference, slots past the count are not written",
           "[pair_normals]") {
   const Case c = make_case(301);
   const std::vector<Eigen::Vector3d> out = run(c);

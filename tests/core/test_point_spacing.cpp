@@ -14,7 +14,7 @@
 using core_test::brute_force_spacing;
 using ppcr::PointCloud;
 
-TEST_CASE("median_spacing: brute force, all points and a sample; duplicates skipped",
+TEST_CASE("median_spacing: brute force, all points and a sample, duplicates skipped",
           "[point_spacing]") {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

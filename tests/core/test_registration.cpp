@@ -1766,7 +1766,7 @@ TEST_CASE("a wrong result is not called good: the scene registered from 120 degr
   CHECK(std::string(r.quality_reason).size() > 0);
 }
 
-TEST_CASE("automatic radius: 8 target point spacings, reported; none without a spacing",
+TEST_CASE("automatic radius: 8 target point spacings, reported, none without a spacing",
           "[registration]") {
   const Scene sc = make_scene(1500, 4000, false);
   RegistrationOptions o;  // radius: automatic by default

@@ -125,12 +125,22 @@ TEST_CASE("EM refine phase: shrink limit, growth and floor", "[scale_schedule]")
   CHECK_FALSE(s.settling());
 }
 
-TEST_CASE("EM: a NaN cost drop counts as settled; a non-finite estimate keeps the scale",
+TEST_CASE("EM: a NaN cost drop counts as settled, a non-finite estimate keeps the scale",
           "[scale_schedule]") {
-  WeightOptions o = em(0.5);
+  WeightOptions o = em(0.5);  // s^2 = 0.25
   o.em_coarse_patience = 0;
+  // Radius 1: a motion below em_coarse_max_motion x 1 = 0.02 is slow, one below
+  // em_coarse_motion x 0.5 = 5e-4 is still. 0.01 is slow and not still, so only the drop decides.
+  REQUIRE(o.em_coarse_max_motion == 0.02);
+  REQUIRE(o.em_coarse_motion == 1e-3);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ScaleSchedule moving(o, 1.0);
+  moving.update(nan, 1.0, 0.2);  // a moving source: its drop, NaN or not, is not counted
+  CHECK(moving.coarse());
+  CHECK(moving.scale_sq() == 0.25);
   ScaleSchedule s(o, 1.0);
-  s.update(std::numeric_limits<double>::quiet_NaN(), 1.0, 0.2);
+  s.update(nan, 0.01, 0.2);  // slow: the NaN drop counts as low, 1 > patience 0: settled
+  CHECK_FALSE(s.coarse());
   CHECK(s.scale_sq() == 0.2);
   s.update(0.5, 1.0, std::numeric_limits<double>::infinity());
   CHECK(s.scale_sq() == 0.2);

@@ -236,7 +236,7 @@ TEST_CASE("PLY ascii with CRLF, comments, lists and elements before and after", 
   CHECK(report.encoding == "ascii");
 }
 
-TEST_CASE("PLY non-finite vertices are dropped and counted; none finite is kEmptyCloud",
+TEST_CASE("PLY non-finite vertices are dropped and counted, none finite is kEmptyCloud",
           "[io][ply]") {
   auto make = [](const std::vector<float>& coords) {
     std::string f = "ply\nformat binary_little_endian 1.0\nelement vertex " +

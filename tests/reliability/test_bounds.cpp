@@ -134,7 +134,7 @@ TEST_CASE("lm.max_iterations bounds each inner problem, and is reached", "[relia
   }
 }
 
-TEST_CASE("on_iteration cancels at any iteration; a criterion firing then takes precedence",
+TEST_CASE("on_iteration cancels at any iteration, a criterion firing then takes precedence",
           "[reliability][bounds]") {
   Rng rng(23);
   const PointCloud target = rel_test::box_scene(rng, 1000);

@@ -67,7 +67,7 @@ int null_directions(const RegistrationResult& r, double length, double tol = 1e-
 
 // ---------------------------------------------------------------------------- surfaces
 
-TEST_CASE("a plane: recovered exactly from the same points; the plane model reports 3 free",
+TEST_CASE("a plane: recovered exactly from the same points, the plane model reports 3 free",
           "[reliability][degenerate]") {
   Rng rng(1);
   const PointCloud target = rel_test::plane_cloud(rng, 2000);

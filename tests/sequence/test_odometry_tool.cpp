@@ -259,7 +259,7 @@ TEST_CASE("a folder of unpadded scan numbers is registered in natural order") {
   CHECK(ate(truth, read_trajectory(out.string() + ".kitti")) < kAteBound);
 }
 
-TEST_CASE("one output is enough; none, or bad values, exit 2 with one line naming the problem") {
+TEST_CASE("one output is enough, while none or bad values exit 2 with one line naming it") {
   const fs::path dir = case_dir("usage");
   make_sequence(dir, 3);
   const std::string scans = "'" + (dir / "seq/scans").string() + "'";

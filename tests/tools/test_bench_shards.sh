@@ -4,16 +4,21 @@
 # summary (text and JSON) and the per-problem CSV must be equal but for the timings. The problems
 # come from a small synthetic pair rendered by ppcr_synth, so the test needs no shared data.
 # Usage: test_bench_shards.sh PPCR_BENCH PPCR_SYNTH WORK_DIR
-# Exit 0 passed, 1 failed, 77 skipped (GNU parallel not installed). The files of a failed run stay
-# in WORK_DIR/<pid>.
+# Exit 0 passed, 1 failed, 77 skipped with the marker PPCR-TEST-SKIPPED (GNU parallel not
+# installed). The files of a failed run stay in WORK_DIR/<pid>.
 set -euo pipefail
 bench=$1 synth=$2 work=$3/$$
 # shellcheck source=bench_test_common.sh
 source "$(dirname "$0")/bench_test_common.sh"
 
 # Debian's moreutils also installs a `parallel`, with other options: only GNU parallel will do.
+# Under CI=true or PPCR_STRICT=1 its absence fails the test instead of skipping it.
 if ! parallel --version 2>/dev/null | grep -q "GNU parallel"; then
-  echo "SKIP: GNU parallel is not installed (Debian: apt-get install parallel; tools/install_deps.sh installs it)"
+  why="GNU parallel is not installed (Debian: apt-get install parallel; tools/install_deps.sh installs it)"
+  if [[ ${CI:-} == true || ${PPCR_STRICT:-} == 1 ]]; then
+    fail "$why, and CI=true or PPCR_STRICT=1 requires it"
+  fi
+  echo "PPCR-TEST-SKIPPED: $why"
   exit 77
 fi
 
