@@ -161,7 +161,15 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
     ur = add_product(ur, um, rs[m]);  // accumulate_pair_normals' sum u r, in its order
     u[m] = um;
   }
-  const __m256d c = _mm256_div_pd(_mm256_set1_pd(e_step.dof + 3.0), _mm256_mul_pd(nu_z_min, sum));
+  // c = (nu + 3) / ((nu + z_min) sum), in two divisions where the product overflows, as the
+  // scalar kernel (student_t_weights).
+  const __m256d nu_3 = _mm256_set1_pd(e_step.dof + 3.0);
+  const __m256d denominator = _mm256_mul_pd(nu_z_min, sum);
+  const __m256d finite = _mm256_cmp_pd(denominator, _mm256_set1_pd(DBL_MAX), _CMP_LE_OQ);
+  __m256d c = _mm256_div_pd(nu_3, denominator);
+  if (_mm256_movemask_pd(finite) != 0xF) {
+    c = select(finite, c, _mm256_div_pd(_mm256_div_pd(nu_3, nu_z_min), sum));
+  }
 
   // 3. Sums (accumulate_pair_normals): Obar / c = A I + N, ebar / c, U; w = c u.
   __m256d A = zero, U = zero, n00 = zero, n11 = zero, n01 = zero, n12 = zero, n02 = zero,

@@ -21,8 +21,9 @@
 //
 // The power q^e is chosen once per pass: e = 4 (nu = 5, the default) as two squarings, any
 // multiple of 1/8 up to 32 (nu a multiple of 0.25) by squaring and at most three square roots,
-// otherwise std::pow. The roots' kernel takes two neighbours per step in two lanes, and four per
-// step where the CPU has AVX (four_lanes.hpp), to the same bits (tests/core/test_weights.cpp).
+// otherwise exp(e log q) with log q formed stably (PowerGeneral), exact as nu -> infinity. The
+// roots' kernel takes two neighbours per step in two lanes, and four per step where the CPU has AVX
+// (four_lanes.hpp), to the same bits (tests/core/test_weights.cpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -57,6 +58,7 @@ inline Eigen::Array2d one_like(const Eigen::Array2d&) { return Eigen::Array2d::O
 /// q^e: the default nu = 5 (e = 4). Two multiplications: one lane (kTwoLanes below) is faster.
 struct PowerFour {
   static constexpr bool kTwoLanes = false;
+  static constexpr bool kFromLog = false;
   double operator()(double q) const {
     const double q2 = q * q;
     return q2 * q2;
@@ -69,6 +71,7 @@ struct PowerDyadic {
   // Two lanes pay for the roots at dof 1.25 (docs/PERFORMANCE.md, BM_EStep); an integer e (odd
   // dof) gains on the E-step's division only.
   static constexpr bool kTwoLanes = true;
+  static constexpr bool kFromLog = false;
   int whole;                // floor(e)
   int eighths;              // (e - floor(e)) * 8, in [0, 8)
   bool four_lanes = false;  // four_lane_dyadic() first (four_lanes.hpp): the same bits
@@ -92,12 +95,26 @@ struct PowerDyadic {
     return result;
   }
 };
-/// q^e, any e.
+/// q^e, any e, from log q (kFromLog): exp(e log q) with log q = log1p(d), d = (z_min - z_k) /
+/// (nu + z_k) = q - 1 formed without rounding q. std::pow(q, e) would carry q's rounding error
+/// (1 ulp, about 1e-16) times e into the result: at nu = 1e100 that is every weight. In this
+/// form q^e tends to exp(-(z_k - z_min) / 2), the Gaussian's ratio, as nu grows, for any finite nu.
 struct PowerGeneral {
-  static constexpr bool kTwoLanes = false;  // std::pow has no two-lane form that rounds alike
+  static constexpr bool kTwoLanes = false;
+  static constexpr bool kFromLog = true;
   double e;
-  double operator()(double q) const { return std::pow(q, e); }
+  double operator()(double log_q) const { return std::exp(e * log_q); }
 };
+
+/// e log1p(z / nu), the Student-t's -log p of one error up to constants, for z >= 0 finite. When
+/// z / nu is below the smallest normal double (nu near the largest), the quotient would lose
+/// bits or round to 0: then log1p(t) = t and e t = (z / 2)(1 + 3 / nu), the Gaussian's z / 2 as
+/// nu grows.
+inline double student_t_log_term(double dof, double exponent, double z) {
+  const double t = z / dof;
+  if (t >= std::numeric_limits<double>::min() || t == 0.0) return exponent * std::log1p(t);
+  return 0.5 * z * (1.0 + 3.0 / dof);
+}
 
 /// The E-steps of a point whose every z_k = r_k * inv_scale_sq overflows to +inf (weights.cpp;
 /// see the file comment), r_min the smallest r_k. Write u[0..n), return c and the log-sum-exp.
@@ -150,14 +167,24 @@ inline PointWeights student_t_weights(const Power& power, double dof, double exp
     }
   }
   for (; k < n; ++k) {
-    const double q = nu_z_min / (dof + r_sq[k] * inv_scale_sq);
-    const double p = power(q);
+    const double z = r_sq[k] * inv_scale_sq;
+    const double q = nu_z_min / (dof + z);
+    double p = 0.0;
+    if constexpr (Power::kFromLog) {
+      // q = 0 (z_k = +inf): p = 0, where d would be -inf / inf.
+      if (q > 0.0) p = power(std::log1p((z_min - z) / (dof + z)));
+    } else {
+      p = power(q);
+    }
     sum += p;
     u[k] = p * q;
   }
   PointWeights out;
-  out.c = (dof + 3.0) / (nu_z_min * sum);
-  if (kLogSumExp) out.log_sum_exp = -exponent * std::log1p(z_min / dof) + std::log(sum);
+  // (nu + z_min) sum overflows for nu near the largest double: then divide in two steps.
+  const double denominator = nu_z_min * sum;
+  out.c = denominator <= std::numeric_limits<double>::max() ? (dof + 3.0) / denominator
+                                                            : (dof + 3.0) / nu_z_min / sum;
+  if (kLogSumExp) out.log_sum_exp = -student_t_log_term(dof, exponent, z_min) + std::log(sum);
   return out;
 }
 

@@ -126,7 +126,8 @@ struct RegistrationOptions {
                                      // points are ignored; it must cover the misalignment
   int max_neighbours = 6;            // target points associated per source point, k, [1, 1024]
   ErrorModel error_model = ErrorModel::kPlane;
-  double dof = 1.25;          // Student-t degrees of freedom nu (> 0; authors: 5)
+  double dof = 1.25;          // Student-t degrees of freedom nu (finite, > 0; authors: 5); as nu
+                              // grows the weights tend to kGaussian's (to 1e-9 from about 1e12)
   double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0; 0 = no filter)
   double target_voxel = 0.0;  // voxel-grid leaf for the target (>= 0; 0 = no filter)
   std::uint32_t criteria = kCriterionCostDrop;  // bitwise OR of Criterion

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <system_error>
+#include <vector>
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -25,7 +26,8 @@ void remove_partial(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);
 }
-constexpr std::size_t kReadChunkBytes = 1 << 16;
+// A stream is read in pieces of this size (read_bounded).
+constexpr std::size_t kStreamChunkBytes = std::size_t{16} << 20;
 
 // How a file type is named in messages.
 std::string type_name(std::filesystem::file_type type) {
@@ -51,34 +53,65 @@ Status too_large(const std::string& path, const std::string& size, const ReadLim
 }
 
 struct BoundedRead {
-  std::size_t used = 0;
+  std::uint64_t used = 0;
   bool over_limit = false;  // more than the limit arrived (only limit + 1 bytes were read)
   bool error = false;
   int error_number = 0;
 };
 
-// Reads f to EOF into *bytes, but never more than limit + 1 bytes. `expected` (the size of a
-// regular file, else 0) sizes the buffer once; otherwise it grows by doubling from one chunk.
+// Reads up to `size` bytes of f at *used into buffer; false when f gave fewer (its end, or an
+// error: ferror tells).
+bool read_some(std::FILE* f, char* buffer, std::size_t size, BoundedRead* r) {
+  errno = 0;
+  const std::size_t got = std::fread(buffer, 1, size, f);
+  r->used += got;
+  if (got < size) r->error_number = errno;
+  return got == size;
+}
+
+// Reads f to EOF into *bytes, but never more than limit + 1 bytes. A regular file (`expected`,
+// its size) is read into one buffer sized once, grown by doubling only if the file grows. A stream
+// (expected 0: a pipe has no size) is read in chunks of kStreamChunkBytes kept apart until it ends,
+// then moved into *bytes chunk by chunk, each released once copied: the resident peak is what was
+// read plus one chunk, never a doubled buffer together with its old copy (on a stream that
+// never ends: the limit plus one chunk).
 BoundedRead read_bounded(std::FILE* f, std::uint64_t expected, std::uint64_t limit,
                          std::string* bytes) {
   const std::uint64_t cap = std::min<std::uint64_t>(limit, SIZE_MAX - 1) + 1;
-  const std::uint64_t first = expected > 0 ? expected + 1 : kReadChunkBytes;
-  bytes->resize(static_cast<std::size_t>(std::min(first, cap)));
   BoundedRead r;
-  for (;;) {
-    if (r.used == bytes->size()) {
-      if (r.used >= cap) break;
-      bytes->resize(static_cast<std::size_t>(std::min<std::uint64_t>(2 * r.used, cap)));
+  if (expected > 0) {
+    bytes->resize(static_cast<std::size_t>(std::min(expected + 1, cap)));
+    for (;;) {
+      if (r.used == bytes->size()) {
+        if (r.used >= cap) break;
+        bytes->resize(static_cast<std::size_t>(std::min<std::uint64_t>(2 * r.used, cap)));
+      }
+      const std::size_t offset = static_cast<std::size_t>(r.used);
+      if (!read_some(f, &(*bytes)[offset], bytes->size() - offset, &r)) break;
     }
-    errno = 0;
-    const std::size_t got = std::fread(&(*bytes)[r.used], 1, bytes->size() - r.used, f);
-    r.used += got;
-    if (got == 0) break;
+    bytes->resize(static_cast<std::size_t>(r.used));
+  } else {
+    std::vector<std::string> chunks;
+    while (r.used < cap) {
+      std::string& chunk = chunks.emplace_back();
+      chunk.resize(
+          static_cast<std::size_t>(std::min<std::uint64_t>(kStreamChunkBytes, cap - r.used)));
+      const std::uint64_t before = r.used;
+      const bool full = read_some(f, chunk.data(), chunk.size(), &r);
+      chunk.resize(static_cast<std::size_t>(r.used - before));
+      if (!full) break;
+    }
+    bytes->clear();
+    if (r.used <= limit) {
+      bytes->reserve(static_cast<std::size_t>(r.used));
+      for (std::string& chunk : chunks) {
+        bytes->append(chunk);
+        std::string().swap(chunk);
+      }
+    }
   }
   r.over_limit = r.used > limit;
   r.error = std::ferror(f) != 0;
-  r.error_number = errno;
-  bytes->resize(r.used);
   return r;
 }
 

@@ -14,6 +14,8 @@
 // text seen, never guessed: a comma inside a blank-separated number (a decimal comma "1,5" or a
 // thousands separator "5,632.500"), ';'-separated fields, any other non-numeric field.
 // "nan"/"inf" fields are numbers: such points are dropped and counted, not errors.
+// A line of more than kMaxFields fields (a header's names included) is refused with its count:
+// it is not one point (x y z and at most 61 attributes), but points run together on a line.
 #include <string>
 #include <vector>
 
@@ -30,6 +32,17 @@ namespace {
 std::string quoted(std::string_view text) { return "'" + escape_for_message(text) + "'"; }
 
 std::string at_line(std::size_t line) { return "line " + std::to_string(line) + ": "; }
+
+// The most fields one line may hold: x, y, z and the attributes a point carries (colour, normal,
+// intensity, curvature, time, ring... ), with room to spare.
+constexpr std::size_t kMaxFields = 64;
+
+Status too_many_fields(const Input& in, std::size_t ln, std::size_t n) {
+  return parse_error(in, "line " + std::to_string(ln) + " has " + std::to_string(n) +
+                             " fields, more than the " + std::to_string(kMaxFields) +
+                             " a point can have: a text cloud holds one point per line "
+                             "(x y z, then any attributes)");
+}
 
 std::string where(std::size_t line, std::size_t field, std::size_t column) {
   return "line " + std::to_string(line) + ", field " + std::to_string(field) + " (column " +
@@ -94,6 +107,7 @@ Status try_header(const Input& in, std::size_t ln, std::string_view line, Layout
                   bool* is_header) {
   *is_header = false;
   const std::vector<TextAt> names = split_header_names(line);
+  if (names.size() > kMaxFields) return too_many_fields(in, ln, names.size());
   double ignored = 0.0;
   for (const TextAt& name : names) {
     if (parse_double(name.text, &ignored) || !looks_like_name(name.text)) return Status::Ok();
@@ -165,6 +179,11 @@ Status read_row(const Input& in, std::size_t ln, std::string_view line, Layout* 
   FieldSplitter fields(line);
   std::string_view field;
   while (fields.next(&field)) {
+    if (fields.index() > kMaxFields) {
+      while (fields.next(&field)) {
+      }
+      return too_many_fields(in, ln, fields.index());
+    }
     const std::string at = where(ln, fields.index(), fields.column());
     double value = 0.0;
     if (field.empty()) return parse_error(in, at + "empty field between commas");

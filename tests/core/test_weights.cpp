@@ -262,7 +262,7 @@ TEST_CASE("Posteriors sum to one on random inputs, and decrease with the error",
 TEST_CASE("Overflowing z = r / s^2: weights stay finite", "[weights]") {
   const double inf = std::numeric_limits<double>::infinity();
   for (WeightModel model : {WeightModel::kStudentT, WeightModel::kGaussian}) {
-    for (double nu : {5.0, 2.0, 2.7}) {  // the three kernels: q^4, q^2.5 by squaring, std::pow
+    for (double nu : {5.0, 2.0, 2.7}) {  // the three kernels: q^4, q^2.5 by squaring, exp(e log q)
       double lse = 0.0;
       const std::vector<double> w = weights_of(model, nu, 1e10, {1e300, 2e300}, &lse);
       INFO("model " << static_cast<int>(model) << " nu " << nu << " w " << w[0] << " " << w[1]);
@@ -315,26 +315,27 @@ TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for eve
   Rng rng(29);
   struct Kernel {
     double nu;
-    double (*power)(double);
+    double (*power)(double q, double d);  // d = (z_min - z) / (nu + z) = q - 1
   };
-  // e = (nu + 3) / 2 by the kernel's method: squaring, square roots for eighths, std::pow; the
-  // products in the kernel's order (PowerDyadic: the roots' product, then the powers of q by
+  // e = (nu + 3) / 2 by the kernel's method: squaring, square roots for eighths, exp(e log1p(d));
+  // the products in the kernel's order (PowerDyadic: the roots' product, then the powers of q by
   // squaring, lowest first).
   const Kernel kernels[] = {
-      {5.0, [](double q) { return (q * q) * (q * q); }},                              // e = 4
-      {1.25, [](double q) { return std::sqrt(std::sqrt(std::sqrt(q))) * (q * q); }},  // 2 + 1/8
-      {1.5, [](double q) { return std::sqrt(std::sqrt(q)) * (q * q); }},              // 2 + 1/4
-      {2.0, [](double q) { return std::sqrt(q) * (q * q); }},                         // 2 + 1/2
-      {1.0, [](double q) { return 1.0 * (q * q); }},                                  // 2
-      {0.25,                                                                          // 1 + 5/8
-       [](double q) { return (std::sqrt(q) * std::sqrt(std::sqrt(std::sqrt(q)))) * q; }},
+      {5.0, [](double q, double) { return (q * q) * (q * q); }},  // e = 4
+      {1.25,
+       [](double q, double) { return std::sqrt(std::sqrt(std::sqrt(q))) * (q * q); }},  // 2 + 1/8
+      {1.5, [](double q, double) { return std::sqrt(std::sqrt(q)) * (q * q); }},        // 2 + 1/4
+      {2.0, [](double q, double) { return std::sqrt(q) * (q * q); }},                   // 2 + 1/2
+      {1.0, [](double q, double) { return 1.0 * (q * q); }},                            // 2
+      {0.25,                                                                            // 1 + 5/8
+       [](double q, double) { return (std::sqrt(q) * std::sqrt(std::sqrt(std::sqrt(q)))) * q; }},
       {1.75,  // 2 + 3/8
-       [](double q) {
+       [](double q, double) {
          return (std::sqrt(std::sqrt(q)) * std::sqrt(std::sqrt(std::sqrt(q)))) * (q * q);
        }},
       {9.5,  // 6 + 1/4
-       [](double q) { return (std::sqrt(std::sqrt(q)) * (q * q)) * ((q * q) * (q * q)); }},
-      {2.7, [](double q) { return std::pow(q, 2.85); }},  // std::pow
+       [](double q, double) { return (std::sqrt(std::sqrt(q)) * (q * q)) * ((q * q) * (q * q)); }},
+      {2.7, [](double q, double d) { return q > 0.0 ? std::exp(2.85 * std::log1p(d)) : 0.0; }},
   };
   int compared = 0;
   for (const Kernel& kernel : kernels) {
@@ -349,8 +350,9 @@ TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for eve
         std::vector<double> u(n);
         double sum = 0.0;
         for (std::size_t k = 0; k < n; ++k) {
-          const double q = nu_z_min / (kernel.nu + r[k] * inv_s2);
-          const double p = kernel.power(q);
+          const double z = r[k] * inv_s2;
+          const double q = nu_z_min / (kernel.nu + z);
+          const double p = kernel.power(q, (r_min * inv_s2 - z) / (kernel.nu + z));
           sum += p;
           u[k] = p * q;
         }
@@ -403,4 +405,28 @@ TEST_CASE("Student-t: four lanes give the two-lane kernel's weights to the bit",
     }
   }
   CHECK(compared == 60 * 13);
+}
+
+// The Student-t with nu -> infinity is the Gaussian. The ratio q = (nu + z_min) / (nu + z_k)
+// rounds to 1 within 1 ulp, and q^e with e = (nu + 3) / 2 multiplied that error by e (at nu =
+// 1e100 every weight was wrong); (nu + z_min) * sum overflowed at nu = 1e308 (every weight 0).
+TEST_CASE("Student-t at huge dof: the Gaussian's weights and cost, for any finite dof",
+          "[weights]") {
+  Rng rng(37);
+  const double largest = std::numeric_limits<double>::max();
+  for (double nu : {1e12, 1e15, 1e100, 1e200, 1e308, largest}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      const std::size_t n = 1 + trial % 9;
+      const double inv_s2 = std::pow(10.0, core_test::uniform(rng, -3.0, 3.0));
+      std::vector<double> r(n);
+      for (double& v : r) v = core_test::uniform(rng, 0.0, 30.0) / inv_s2;
+      double lse_t = 0.0, lse_g = 0.0;
+      const std::vector<double> t = weights_of(WeightModel::kStudentT, nu, inv_s2, r, &lse_t);
+      const std::vector<double> g = weights_of(WeightModel::kGaussian, nu, inv_s2, r, &lse_g);
+      INFO("nu " << nu << " n " << n << " trial " << trial);
+      // The weights differ from the Gaussian's by O(z / nu): 1e-9 covers z <= 30 at nu = 1e12.
+      for (std::size_t k = 0; k < n; ++k) CHECK(std::abs(t[k] - g[k]) <= 1e-9 * (1.0 + g[k]));
+      CHECK(std::abs(lse_t - lse_g) <= 1e-9 * (1.0 + std::abs(lse_g)));
+    }
+  }
 }

@@ -3,7 +3,9 @@
 // before it is read. Clouds and transforms (--initial / --ground-truth) alike.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -132,6 +134,49 @@ TEST_CASE("A cloud FIFO that never ends stops at the limit", "[io][non_regular]"
                               Catch::Contains("more than 100000 bytes") &&
                               Catch::Contains("a point cloud"));
   CHECK(bytes.empty());
+}
+
+// The reader held about twice what it may read (a doubling buffer and its old copy: 2 GB
+// resident for the 1 GiB limit). Now the stream is kept in chunks until it ends: the peak is the
+// limit plus a chunk. Run in a child process, whose peak resident size (getrusage) is its own.
+TEST_CASE("A cloud FIFO that never ends is refused at 1 GiB with bounded memory",
+          "[io][non_regular]") {
+  io_test::TempDir dir;
+  int report[2];
+  REQUIRE(::pipe(report) == 0);
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    ::close(report[0]);
+    ppcr::PointCloud cloud;
+    const ppcr::Status s = read_through_fifo(
+        dir, "zeros.xyz", std::string(1 << 16, '\0'), true,
+        [&](const std::string& path) { return ppcr::io::read_cloud(path, &cloud); });
+    struct rusage usage {};
+    ::getrusage(RUSAGE_SELF, &usage);
+    const long values[2] = {static_cast<long>(s.code()), usage.ru_maxrss};  // KiB on Linux
+    const bool named = s.message().find("more than 1073741824 bytes") != std::string::npos;
+    const long all[3] = {values[0], values[1], named ? 1 : 0};
+    const ssize_t written = ::write(report[1], all, sizeof all);
+    ::_exit(written == static_cast<ssize_t>(sizeof all) ? 0 : 1);
+  }
+  ::close(report[1]);
+  long got[3] = {-1, -1, -1};
+  const ssize_t n = ::read(report[0], got, sizeof got);
+  ::close(report[0]);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  REQUIRE(n == static_cast<ssize_t>(sizeof got));
+  CHECK(WIFEXITED(status));
+  CHECK(got[0] == static_cast<long>(ppcr::StatusCode::kIoError));
+  CHECK(got[2] == 1);
+  const double peak_mib = static_cast<double>(got[1]) / 1024.0;
+  INFO("peak resident " << peak_mib << " MiB");
+#if defined(__SANITIZE_ADDRESS__)
+  WARN("AddressSanitizer build: its shadow memory and quarantine inflate the peak; not checked");
+#else
+  CHECK(peak_mib <= 1024.0 + 64.0);
+#endif
 }
 
 TEST_CASE("The size of a transform file is checked before it is read", "[io][non_regular]") {

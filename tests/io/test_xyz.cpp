@@ -124,7 +124,42 @@ TEST_CASE("XYZ errors name the file, line, field and text", "[io][xyz]") {
   }
 }
 
-TEST_CASE("XYZ NaN/inf points are dropped and counted; a file of none is kEmptyCloud",
+// Points run together on a line (20 lines of 6000 numbers: "x y z x y z ...") were read as 20
+// points, the first three fields of each line. A line holds one point: at most 64 fields.
+TEST_CASE("XYZ: a line of more fields than a point has is refused with its count", "[io][xyz]") {
+  auto line_of = [](int fields) {
+    std::string line;
+    for (int i = 0; i < fields; ++i) line += (i ? " " : "") + std::to_string(i % 3 + 1);
+    return line + "\n";
+  };
+  std::string text;
+  for (int i = 0; i < 20; ++i) text += line_of(6000);
+  PointCloud cloud;
+  ppcr::Status s = read_mem("run_together.xyz", text, &cloud);
+  INFO(s.message());
+  CHECK(s.code() == StatusCode::kParseError);
+  CHECK_THAT(s.message(), Catch::Contains("run_together.xyz") &&
+                              Catch::Contains("line 1 has 6000 fields") &&
+                              Catch::Contains("one point per line"));
+  CHECK(cloud.empty());
+  // The same with commas, and after a first line of a plausible width.
+  std::string commas = line_of(3) + line_of(65);
+  for (char& c : commas) c = c == ' ' ? ',' : c;
+  s = read_mem("wide.csv", commas, &cloud);
+  CHECK(s.code() == StatusCode::kParseError);
+  CHECK_THAT(s.message(), Catch::Contains("wide.csv") && Catch::Contains("line 2 has 65 fields"));
+  // A header of too many names is refused alike; 64 fields are a point.
+  std::string header = "x y z";
+  for (int i = 3; i < 70; ++i) header += " a" + std::to_string(i);
+  s = read_mem("header.txt", header + "\n" + line_of(70), &cloud);
+  CHECK(s.code() == StatusCode::kParseError);
+  CHECK_THAT(s.message(), Catch::Contains("line 1 has 70 fields"));
+  s = read_mem("wide_ok.xyz", line_of(64) + line_of(64), &cloud);
+  CHECK(s.ok());
+  CHECK(cloud.size() == 2u);
+}
+
+TEST_CASE("XYZ NaN/inf points are dropped and counted, a file of none is kEmptyCloud",
           "[io][xyz]") {
   PointCloud cloud;
   ReadReport report;
