@@ -18,11 +18,11 @@
 #include "neighbour_cache.hpp"
 #include "normal_equations.hpp"
 #include "pair_normals.hpp"
+#include "parallel.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
-#include "thread_pool.hpp"
 #include "weights.hpp"
 
 namespace {
@@ -92,14 +92,14 @@ void BM_RadiusKnnQuery(benchmark::State& state) {
 
 void BM_Associate(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
-  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
+  const ppcr::detail::Parallel parallel(static_cast<int>(state.range(1)));
   const ppcr::PointCloud target = surface(n, 1), source = surface(n, 2);
   ppcr::detail::KdTree tree;
   (void)tree.build(target);
   ppcr::detail::AssociationTable table;
   table.resize(n, kNeighbours);
   for (auto _ : state) {
-    ppcr::detail::associate(tree, source, small_motion(), kRadius * kRadius, &pool, &table);
+    ppcr::detail::associate(tree, source, small_motion(), kRadius * kRadius, &parallel, &table);
     benchmark::DoNotOptimize(table.pairs);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -194,13 +194,13 @@ struct NormalsFixture {
 // Arguments: source points, threads, clouds in Z-order (1) or in sampling order (0).
 void BM_NormalEquations(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
-  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
+  const ppcr::detail::Parallel parallel(static_cast<int>(state.range(1)));
   ppcr::detail::WeightParams wp;
   wp.inv_scale_sq = 1.0 / (0.01 * 0.01);
   ppcr::detail::Evaluation out;
   for (auto _ : state) {
     f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
-                  f.r_sq.data(), &pool, &out);
+                  f.r_sq.data(), &parallel, &out);
     benchmark::DoNotOptimize(out.H);
   }
   state.counters["pairs"] = static_cast<double>(f.table.pairs);
@@ -210,7 +210,7 @@ void BM_NormalEquations(benchmark::State& state) {
 // The plane model's pass: Omega_k = n_k n_k^T + 0.05 I from the target's 20-neighbour normals.
 void BM_NormalEquationsPlane(benchmark::State& state) {
   Fixture f(static_cast<std::size_t>(state.range(0)), state.range(2) != 0);
-  const ppcr::detail::ThreadPool pool(static_cast<int>(state.range(1)));
+  const ppcr::detail::Parallel parallel(static_cast<int>(state.range(1)));
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::compute_normals(f.target, f.tree, 20, nullptr, &normals);
   ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
@@ -224,7 +224,7 @@ void BM_NormalEquationsPlane(benchmark::State& state) {
   ppcr::detail::Evaluation out;
   for (auto _ : state) {
     f.ne.evaluate(f.source, f.target, f.table, wp, small_motion(), f.w_prev.data(), f.w_new.data(),
-                  f.r_sq.data(), &pool, &out, &plane);
+                  f.r_sq.data(), &parallel, &out, &plane);
     benchmark::DoNotOptimize(out.H);
   }
   state.counters["pairs"] = static_cast<double>(f.table.pairs);

@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -20,14 +20,15 @@ constexpr std::size_t kBlock = 1024;
 // end, out) writes a block's W partial sums to out[0 .. W), which are then added block by block
 // in order. scratch holds the partial sums (kept by the caller).
 template <std::size_t W, class Body>
-std::array<double, W> block_sums(const ThreadPool* pool, std::size_t n,
+std::array<double, W> block_sums(const Parallel* parallel, std::size_t n,
                                  std::vector<double>* scratch, Body&& body) {
   const std::size_t n_blocks = block_count(n, kBlock);
   scratch->resize(W * n_blocks);
   double* blocks = scratch->data();
-  parallel_for_blocks(pool, n, kBlock, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
-    body(begin, end, blocks + W * static_cast<std::size_t>(b));
-  });
+  parallel_for_blocks(parallel, n, kBlock,
+                      [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+                        body(begin, end, blocks + W * static_cast<std::size_t>(b));
+                      });
   std::array<double, W> total{};
   for (std::size_t b = 0; b < n_blocks; ++b) {
     for (std::size_t w = 0; w < W; ++w) total[w] += blocks[W * b + w];
@@ -73,10 +74,10 @@ bool on_surface(const SurfaceTestSq& t, std::uint32_t index, const Eigen::Vector
 // the first leaf on; the result is the unseeded query's, ties included.
 Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
                     const Eigen::Isometry3d& T, double radius_sq, double near_sq,
-                    const SurfaceTestSq& surface, const ThreadPool* pool,
+                    const SurfaceTestSq& surface, const Parallel* parallel,
                     std::vector<double>* scratch) {
   const std::array<double, kSums> t = block_sums<kSums>(
-      pool, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
+      parallel, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
         Sums s;
         bool seeded = false;  // whether `index` holds the previous point's nearest
         std::uint32_t index = 0;
@@ -111,10 +112,10 @@ Sums nearest_within(const KdTree& tree, const PointCloud& indexed, const PointCl
 // radius: any one, not the nearest, so the point found for the previous point is tried first (in
 // Z-order consecutive points lie close) and a query is made only when it is beyond the radius.
 double count_within(const KdTree& tree, const PointCloud& indexed, const PointCloud& points,
-                    const Eigen::Isometry3d& T, double radius_sq, const ThreadPool* pool,
+                    const Eigen::Isometry3d& T, double radius_sq, const Parallel* parallel,
                     std::vector<double>* scratch) {
   return block_sums<1>(
-      pool, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
+      parallel, points.size(), scratch, [&](std::size_t begin, std::size_t end, double* out) {
         double count = 0.0;
         bool found = false;  // whether `index` holds the previous point's find
         std::uint32_t index = 0;
@@ -136,21 +137,21 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
                                    const PointCloud& source, const KdTree* source_tree,
                                    const Eigen::Isometry3d& T_target_source, double radius,
                                    double near_distance, const SurfaceTest& surface,
-                                   const ThreadPool* pool, std::vector<double>* scratch) {
+                                   const Parallel* parallel, std::vector<double>* scratch) {
   AlignmentQuality q;
   if (source.empty() || target.empty()) return q;
   const double radius_sq = radius * radius;
   const double near_sq = near_distance * near_distance;
   const SurfaceTestSq surface_sq(surface);
   const Sums s = nearest_within(target_tree, target, source, T_target_source, radius_sq, near_sq,
-                                surface_sq, pool, scratch);
+                                surface_sq, parallel, scratch);
   q.fitness = s.matched / static_cast<double>(source.size());
   q.inlier_rmse = s.matched > 0.0 ? std::sqrt(s.dist_sq / s.matched) : 0.0;
   q.close_fraction = s.near > 0.0 ? s.close / s.near : 0.0;
   q.overlap = q.fitness;
   if (source_tree != nullptr) {
     const double back = count_within(*source_tree, source, target, T_target_source.inverse(),
-                                     radius_sq, pool, scratch);
+                                     radius_sq, parallel, scratch);
     q.overlap = std::min(q.fitness, back / static_cast<double>(target.size()));
   }
   return q;

@@ -15,7 +15,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 struct AlignmentQuality {
   double fitness = 0.0;         // fraction of source points with a target point within the radius
@@ -50,7 +50,7 @@ AlignmentQuality measure_alignment(const KdTree& target_tree, const PointCloud& 
                                    const PointCloud& source, const KdTree* source_tree,
                                    const Eigen::Isometry3d& T_target_source, double radius,
                                    double near_distance, const SurfaceTest& surface,
-                                   const ThreadPool* pool, std::vector<double>* scratch);
+                                   const Parallel* parallel, std::vector<double>* scratch);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

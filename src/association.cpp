@@ -4,7 +4,7 @@
 #include <cassert>
 #include <utility>
 
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -32,13 +32,13 @@ void AssociationTable::recount() {
 }
 
 void associate(const KdTree& target_tree, const PointCloud& source,
-               const Eigen::Isometry3d& T_target_source, double radius_sq, const ThreadPool* pool,
+               const Eigen::Isometry3d& T_target_source, double radius_sq, const Parallel* parallel,
                AssociationTable* table) {
   const int k = table->k;
   assert(k <= AssociationTable::kMaxNeighbours);  // the query's distances on the stack
   const Eigen::Matrix3d R = T_target_source.linear();
   const Eigen::Vector3d t = T_target_source.translation();
-  parallel_for(pool, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t j) {
+  parallel_for(parallel, static_cast<std::ptrdiff_t>(source.size()), [&](std::ptrdiff_t j) {
     const std::size_t slot = static_cast<std::size_t>(j) * static_cast<std::size_t>(k);
     const Eigen::Vector3d p = R * source[static_cast<std::size_t>(j)] + t;
     double dist_sq[AssociationTable::kMaxNeighbours];  // the query's, not kept

@@ -15,7 +15,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 /// Slot m < count[j] of source point j holds its m-th nearest target point within the radius,
 /// index[j * k + m] (into the target). Ties in distance are ordered by index on every path (the
@@ -54,7 +54,7 @@ struct AssociationTable {
 /// source are expressed in). Parallel over source points; the result does not depend on the
 /// thread count. Allocation-free once the table is sized.
 void associate(const KdTree& target_tree, const PointCloud& source,
-               const Eigen::Isometry3d& T_target_source, double radius_sq, const ThreadPool* pool,
+               const Eigen::Isometry3d& T_target_source, double radius_sq, const Parallel* parallel,
                AssociationTable* table);
 
 }  // namespace detail

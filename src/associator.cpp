@@ -1,7 +1,7 @@
 // associator.cpp - see associator.hpp.
 #include "associator.hpp"
 
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -32,7 +32,7 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   if (boundary_ != nullptr) table_.left_out.reserve(n);
   if (!use_coarse_) {
     // Also forgets the previous source's lists.
-    if (use_cache_) cache_.resize(n, capacity, settings.pool);
+    if (use_cache_) cache_.resize(n, capacity, settings.parallel);
     return;
   }
   // Room for every point, as the table's, but its rows reset once, for the coarse level (below).
@@ -43,7 +43,7 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
   coarse_points_.resize(n_coarse);
   if (source_normals_ != nullptr) coarse_normals_.resize(n_coarse);
   constexpr std::size_t kBlock = 4096;
-  parallel_for_blocks(settings.pool, n_coarse, kBlock,
+  parallel_for_blocks(settings.parallel, n_coarse, kBlock,
                       [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
                         for (std::size_t i = begin; i < end; ++i) {
                           coarse_points_[i] = source[i * stride];
@@ -53,7 +53,7 @@ void Associator::prepare(const Settings& settings, const PointCloud& source,
                         }
                       });
   table_.resize(n_coarse, k);
-  if (use_cache_) cache_.resize(n_coarse, capacity, settings.pool);
+  if (use_cache_) cache_.resize(n_coarse, capacity, settings.parallel);
 }
 
 void Associator::find(bool coarse, const Eigen::Isometry3d& T, bool leave_out_boundary) {
@@ -98,17 +98,17 @@ void Associator::associate(bool coarse, const Eigen::Isometry3d& T) {
   // coarse points keep theirs when the coarse level was associated, else every row starts empty.
   if (!coarse && table_.count.size() != source_->size()) {
     if (use_cache_ && coarse_associated_) {
-      spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_, settings_.pool);
+      spread_lists(settings_.coarse_stride, source_->size(), &cache_, &table_, settings_.parallel);
     } else {
       table_.resize(source_->size(), settings_.k);
-      if (use_cache_) cache_.resize(source_->size(), cache_.capacity, settings_.pool);
+      if (use_cache_) cache_.resize(source_->size(), cache_.capacity, settings_.parallel);
     }
   }
   if (use_cache_) {
-    associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.pool, &cache_,
+    associate_cached(*tree_, *target_, cloud, T, settings_.radius, settings_.parallel, &cache_,
                      &table_);
   } else {
-    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.pool,
+    detail::associate(*tree_, cloud, T, settings_.radius * settings_.radius, settings_.parallel,
                       &table_);
   }
   coarse_associated_ = coarse;

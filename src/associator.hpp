@@ -31,16 +31,16 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 class Associator {
  public:
   struct Settings {
-    int k = 10;                        // neighbours per source point
-    double radius = 1.0;               // cloud units
-    int cache_extra = 0;               // extra cached candidates per point (0 = no cache)
-    std::size_t coarse_stride = 1;     // 1 = no coarse level
-    const ThreadPool* pool = nullptr;  // null: the calling thread alone
+    int k = 10;                          // neighbours per source point
+    double radius = 1.0;                 // cloud units
+    int cache_extra = 0;                 // extra cached candidates per point (0 = no cache)
+    std::size_t coarse_stride = 1;       // 1 = no coarse level
+    const Parallel* parallel = nullptr;  // null: the calling thread alone
   };
 
   /// The target side, kept by pointer until the next call. boundary: one flag per target point

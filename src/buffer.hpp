@@ -2,7 +2,7 @@
 //
 // A std::vector whose resize() leaves new elements default-initialised: for the arithmetic
 // types and plain structs it holds, not written at all. The loop that fills a buffer then
-// touches its pages for the first time, on every thread of the pool, where std::vector would
+// touches its pages for the first time, on every thread of the parallel, where std::vector would
 // have zeroed them all on the calling thread first. A first touch is a page fault, which costs
 // 8-15 us per 4 KiB page on the virtual machines we measure on: zeroing the association, cache
 // and weight buffers of a 65k-point registration took 26-34 ms on one thread

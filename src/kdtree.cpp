@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "parallel.hpp"
 #include "radius_knn_result.hpp"
-#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -21,8 +21,8 @@ namespace {
 // and z apart, so that a leaf scans contiguous coordinates (its distances are vectorisable)
 // instead of gathering through an index array. TreeBuilder builds it as nanoflann 1.4 builds its
 // own (the same splits, hence the same tree: tests/core/test_kdtree.cpp), its subtrees on the
-// pool's threads (ParallelBuild); the search below is nanoflann's searchLevel (same bounds, same
-// visiting order, hence the same result) on this layout.
+// threads of `parallel` (ParallelBuild); the search below is nanoflann's searchLevel (same bounds,
+// same visiting order, hence the same result) on this layout.
 struct FlatNode {
   // Split node: the first child's upper and the second child's lower extent along `axis`
   // (nanoflann's divlow, divhigh).
@@ -187,8 +187,8 @@ class TreeBuilder {
   std::uint32_t* index_;
 };
 
-// The tree built on a pool's threads: the nodes holding more points than a grain are split on the
-// calling thread, then the subtrees below them are built at once (the pool hands them out as
+// The tree built on several threads: the nodes holding more points than a grain are split on the
+// calling thread, then the subtrees below them are built at once (OpenMP hands them out as
 // threads free up: middle splits leave them unequal), then every node is laid out depth first.
 // The same splits as TreeBuilder::build alone: each partitions its own range of the index array.
 class ParallelBuild {
@@ -196,9 +196,9 @@ class ParallelBuild {
   ParallelBuild(const TreeBuilder& builder, std::size_t grain) : builder_(builder), grain_(grain) {}
 
   // The tree over [0, n) into *nodes; *box, the cell on entry, becomes the bounding box.
-  void run(std::size_t n, Box* box, const ThreadPool* pool, Buffer<FlatNode>* nodes) {
+  void run(std::size_t n, Box* box, const Parallel* parallel, Buffer<FlatNode>* nodes) {
     plan(0, n, *box);
-    parallel_for(pool, static_cast<std::ptrdiff_t>(subtrees_.size()), [&](std::ptrdiff_t i) {
+    parallel_for(parallel, static_cast<std::ptrdiff_t>(subtrees_.size()), [&](std::ptrdiff_t i) {
       Top& t = tops_[static_cast<std::size_t>(subtrees_[static_cast<std::size_t>(i)])];
       builder_.build(t.left, t.right, &t.box, &t.nodes);
     });
@@ -346,7 +346,7 @@ KdTree::~KdTree() = default;
 KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
-Status KdTree::build(const PointCloud& points, const ThreadPool* pool) {
+Status KdTree::build(const PointCloud& points, const Parallel* parallel) {
   // Leaf ends carry the kLeaf bit, so point counts (and node indices, < 2 x points) stay below it.
   if (points.size() >= kLeaf) {
     return Status(StatusCode::kInvalidArgument,
@@ -363,20 +363,20 @@ Status KdTree::build(const PointCloud& points, const ThreadPool* pool) {
     const TreeBuilder builder(points, m.index.data());
     Box box;
     builder.bounding_box(0, n, &box);  // the index is still the identity
-    if (pool == nullptr || pool->threads() < 2 || n <= kLeafMaxSize) {
+    if (parallel == nullptr || parallel->threads() < 2 || n <= kLeafMaxSize) {
       builder.build(0, n, &box, &m.nodes);
       m.nodes.shrink_to_fit();  // grown by doubling
     } else {
       // Subtrees of about a sixteenth of the points for two threads, handed out as threads free.
-      const std::size_t grain = n / (8 * static_cast<std::size_t>(pool->threads()));
-      ParallelBuild(builder, grain).run(n, &box, pool, &m.nodes);
+      const std::size_t grain = n / (8 * static_cast<std::size_t>(parallel->threads()));
+      ParallelBuild(builder, grain).run(n, &box, parallel, &m.nodes);
     }
     for (std::size_t a = 0; a < 3; ++a) {
       m.box_low[a] = box[a].low;
       m.box_high[a] = box[a].high;
     }
     m.xyz.resize(3 * n);
-    parallel_for(pool, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
+    parallel_for(parallel, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
       const std::size_t i = static_cast<std::size_t>(j);
       for (std::size_t a = 0; a < 3; ++a) m.xyz[a * n + i] = points[m.index[i]][a];
     });

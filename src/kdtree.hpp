@@ -20,7 +20,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 // A node of at most this many points is a leaf (nanoflann's leaf_max_size; nanoflann 1.4-1.7
 // split a larger node so that each side keeps at least one point: leaves hold 1 to
@@ -55,9 +55,9 @@ class KdTree {
   KdTree& operator=(KdTree&&) noexcept;
 
   /// Indexes a copy of points (in the tree's leaf order: 24 B per point, plus a 4 B index and
-  /// about 4 B of nodes, 3.8 B on the lidar target). At most 2^31 - 1 points. With a pool of two
+  /// about 4 B of nodes, 3.8 B on the lidar target). At most 2^31 - 1 points. With two threads
   /// or more threads, subtrees are built at once; the tree is the same.
-  Status build(const PointCloud& points, const ThreadPool* pool = nullptr);
+  Status build(const PointCloud& points, const Parallel* parallel = nullptr);
 
   /// Up to k indices of the points nearest to query with squared distance <= radius_sq
   /// (inclusive, but a point exactly at the radius can be missed when the rounded distance to

@@ -71,7 +71,7 @@ void LMSolver::resize(std::size_t source_points, int k) {
 void LMSolver::evaluate(const LMProblem& pb, const Eigen::Isometry3d& pose, const double* w_prev,
                         double* w_new, Evaluation* out, PairNormalMemo memo) {
   normal_equations_.evaluate(*pb.source, *pb.target, *pb.assoc, pb.weights, pose, w_prev, w_new,
-                             nullptr, pb.pool, out, pb.plane, memo);
+                             nullptr, pb.parallel, out, pb.plane, memo);
 }
 
 LMSummary LMSolver::solve(const LMOptions& options, const LMProblem& pb, Eigen::Isometry3d* T) {

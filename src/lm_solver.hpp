@@ -15,17 +15,17 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 struct LMProblem {
   const PointCloud* source = nullptr;  // source points (registration's internal frame)
   const PointCloud* target = nullptr;  // target points (same frame as the tree)
   const AssociationTable* assoc = nullptr;
   WeightParams weights;
-  const PlaneModel* plane = nullptr;  // plane error model, or null for point-to-point
-  const ThreadPool* pool = nullptr;   // null: the calling thread alone
-  double step_reference = 1.0;        // length the step tolerance is relative to (the radius)
-  double source_extent = 1.0;         // r_max: largest |x| of the source (bounds a step's motion)
+  const PlaneModel* plane = nullptr;   // plane error model, or null for point-to-point
+  const Parallel* parallel = nullptr;  // null: the calling thread alone
+  double step_reference = 1.0;         // length the step tolerance is relative to (the radius)
+  double source_extent = 1.0;          // r_max: largest |x| of the source (bounds a step's motion)
 };
 
 class LMSolver {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -93,11 +93,11 @@ void for_each_array(NeighbourCache* cache, std::size_t points, std::size_t capac
 
 }  // namespace
 
-void NeighbourCache::resize(std::size_t source_points, int new_capacity, const ThreadPool* pool) {
+void NeighbourCache::resize(std::size_t source_points, int new_capacity, const Parallel* parallel) {
   capacity = new_capacity;
   for_each_array(this, source_points, static_cast<std::size_t>(new_capacity),
                  [](auto& array, std::size_t length) { array.resize(length); });
-  invalidate(pool);
+  invalidate(parallel);
 }
 
 void NeighbourCache::reserve(std::size_t source_points, int reserved_capacity) {
@@ -105,11 +105,11 @@ void NeighbourCache::reserve(std::size_t source_points, int reserved_capacity) {
                  [](auto& array, std::size_t length) { array.reserve(length); });
 }
 
-void NeighbourCache::invalidate(const ThreadPool* pool) {
+void NeighbourCache::invalidate(const Parallel* parallel) {
   constexpr std::size_t kBlock = 4096;
   const std::size_t n = bound.size();
   assert(set_radius_sq.size() == n);
-  parallel_for_blocks(pool, n, kBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+  parallel_for_blocks(parallel, n, kBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
     std::fill(bound.data() + begin, bound.data() + end, -1.0);
     std::fill(set_radius_sq.data() + begin, set_radius_sq.data() + end, -1.0);
   });
@@ -319,7 +319,7 @@ void count_paths(NeighbourCache* cache) {
 
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
                       const Eigen::Isometry3d& T_target_source, double radius,
-                      const ThreadPool* pool, NeighbourCache* cache, AssociationTable* table) {
+                      const Parallel* parallel, NeighbourCache* cache, AssociationTable* table) {
   // radius > 0 (checked by validate()): the certificates rely on kth >= 0 and r - m >= 0.
   assert(radius > 0.0);
   assert(table->k <= cache->capacity && cache->capacity <= NeighbourCache::kMaxCapacity);
@@ -344,14 +344,14 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
   // The lists and rho hold for the table, k and radius of the last call (the set certificate
   // re-sorts that table's rows in place): anything else starts afresh.
   if (cache->table != table || cache->table_k != c.k || cache->table_radius != radius) {
-    cache->invalidate(pool);
+    cache->invalidate(parallel);
   }
   // Points in blocks of kSeedBlock, each visited in order by one thread: a point without a list
   // to seed its query from may seed it from the block's previous point's list ("Seeded
   // queries").
   constexpr std::size_t kSeedBlock = 64;
   parallel_for_blocks(
-      pool, source.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+      parallel, source.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
         for (std::size_t j = begin; j < end; ++j) {
           associate_point(c, j, j > begin ? static_cast<std::ptrdiff_t>(j - 1) : -1);
         }
@@ -364,7 +364,7 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 }
 
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
-                  AssociationTable* table, const ThreadPool* pool) {
+                  AssociationTable* table, const Parallel* parallel) {
   const std::size_t coarse = cache->count.size();
   assert(cache->table == table && table->count.size() == coarse && stride >= 2 &&
          (coarse == 0 || (coarse - 1) * stride < points));
@@ -385,7 +385,7 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
     std::copy_n(&table->index[i * k], k, &table->index[j * k]);
     table->count[j] = table->count[i];
   };
-  // Rows [lo, hi) with lo = ceil(hi / stride) move at once, on the pool's threads: their
+  // Rows [lo, hi) with lo = ceil(hi / stride) move at once, on the threads of `parallel`: their
   // destinations, from lo * stride >= hi on, hold no row still to move (those are below lo) and
   // none of this round's (below hi). Then the rows below lo, until row 0, which stays. Each row
   // is read before any row is written over it (its writer, row m / stride, lies in a later
@@ -393,13 +393,13 @@ void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
   constexpr std::size_t kBlock = 1024;
   for (std::size_t hi = coarse; hi > 1;) {
     const std::size_t lo = std::max<std::size_t>(1, (hi + stride - 1) / stride);
-    parallel_for_blocks(pool, hi - lo, kBlock,
+    parallel_for_blocks(parallel, hi - lo, kBlock,
                         [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
                           for (std::size_t i = lo + begin; i < lo + end; ++i) move_row(i);
                         });
     hi = lo;
   }
-  parallel_for_blocks(pool, points, kBlock,
+  parallel_for_blocks(parallel, points, kBlock,
                       [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
                         for (std::size_t j = begin; j < end; ++j) {
                           // No list: queried by the next call (j / stride < coarse otherwise).

@@ -81,7 +81,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 struct NeighbourCache {
   /// Candidates per source point, K >= k (largest supported: kMaxCapacity).
@@ -145,14 +145,15 @@ struct NeighbourCache {
   static constexpr double kFastMove = 0.5;
 
   /// Sizes the cache for source_points points and capacity candidates each, and empties it. The
-  /// per-point marks are written on the pool's threads (null: the calling thread): a new
+  /// per-point marks are written on the threads of `parallel` (null: the calling thread): a new
   /// buffer's first touch is a page fault (buffer.hpp).
-  void resize(std::size_t source_points, int capacity, const ThreadPool* pool = nullptr);
+  void resize(std::size_t source_points, int capacity, const Parallel* parallel = nullptr);
   /// Reserves room for source_points points of capacity candidates (no write, no reset), so that
   /// resizing up to that later allocates nothing.
   void reserve(std::size_t source_points, int capacity);
-  /// Forgets every list (the next associate_cached queries every point); on the pool's threads.
-  void invalidate(const ThreadPool* pool = nullptr);
+  /// Forgets every list (the next associate_cached queries every point); on the threads of
+  /// `parallel`.
+  void invalidate(const Parallel* parallel = nullptr);
 };
 
 /// As associate() (association.hpp), with the cache: same table, fewer k-d tree queries. The
@@ -162,7 +163,7 @@ struct NeighbourCache {
 /// count.
 void associate_cached(const KdTree& target_tree, const PointCloud& target, const PointCloud& source,
                       const Eigen::Isometry3d& T_target_source, double radius,
-                      const ThreadPool* pool, NeighbourCache* cache, AssociationTable* table);
+                      const Parallel* parallel, NeighbourCache* cache, AssociationTable* table);
 
 /// Spreads a coarse level's lists over the full source, in place (RegistrationOptions::
 /// coarse_stride): the cache and table hold one row per point of the coarse level, whose point i
@@ -175,10 +176,10 @@ void associate_cached(const KdTree& target_tree, const PointCloud& target, const
 /// previous point's list when that list is long enough, "Seeded queries"). The rows grow within the
 /// vectors' capacity: allocation-free when the cache had room reserved for `points` (reserve()) and
 /// the table was sized for them, before both were sized for the coarse level. The cache must hold
-/// its last call's lists for `table`. On the pool's threads (null: the calling thread); the result
-/// does not depend on their number.
+/// its last call's lists for `table`. On the threads of `parallel` (null: the calling thread); the
+/// result does not depend on their number.
 void spread_lists(std::size_t stride, std::size_t points, NeighbourCache* cache,
-                  AssociationTable* table, const ThreadPool* pool = nullptr);
+                  AssociationTable* table, const Parallel* parallel = nullptr);
 
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE

@@ -10,8 +10,8 @@
 #include "four_lanes.hpp"
 #include "four_points.hpp"
 #include "pair_normals.hpp"
+#include "parallel.hpp"
 #include "ppcr/se3.hpp"
-#include "thread_pool.hpp"
 #include "weight_kernel.hpp"
 
 namespace ppcr {
@@ -69,11 +69,11 @@ inline void add_plane_point(const Eigen::Vector3d& p, const Sym3& o, const Eigen
 }  // namespace
 
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, const ThreadPool* pool, Buffer<PlanePoint>* out,
+                       double epsilon, const Parallel* parallel, Buffer<PlanePoint>* out,
                        Buffer<PlaneInformation>* information) {
   out->resize(target.size());
   if (information != nullptr) information->resize(target.size());
-  parallel_for(pool, static_cast<std::ptrdiff_t>(target.size()), [&](std::ptrdiff_t j) {
+  parallel_for(parallel, static_cast<std::ptrdiff_t>(target.size()), [&](std::ptrdiff_t j) {
     const std::size_t i = static_cast<std::size_t>(j);
     PlanePoint& q = (*out)[i];
     const Eigen::Vector3d& n = normals[i];
@@ -247,7 +247,7 @@ template <bool kPlane, bool kPairNormals, class Kernel>
 void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
                            const AssociationTable& assoc, const Eigen::Isometry3d& T,
                            const double* w_prev, double* w_new, double* r_sq,
-                           const ThreadPool* pool, const PlaneModel* plane, PairNormalMemo memo,
+                           const Parallel* parallel, const PlaneModel* plane, PairNormalMemo memo,
                            const DyadicStudentT* four_points) {
   const std::size_t n = source.size();
   const std::size_t k = static_cast<std::size_t>(assoc.k);
@@ -270,7 +270,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
   const std::uint8_t* left_out = assoc.any_left_out ? assoc.left_out.data() : nullptr;
 
   parallel_for_blocks(
-      pool, n, kBlockSize, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
+      parallel, n, kBlockSize, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
         // Without r_sq, a point's squared errors live on the stack (read back within the point);
         // its pairs' normals in the block's k slots of pair_normals_.
         double r_local[AssociationTable::kMaxNeighbours];
@@ -375,7 +375,7 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
 void NormalEquations::evaluate(const PointCloud& source, const PointCloud& target,
                                const AssociationTable& assoc, const WeightParams& weights,
                                const Eigen::Isometry3d& T, const double* w_prev, double* w_new,
-                               double* r_sq, const ThreadPool* pool, Evaluation* out,
+                               double* r_sq, const Parallel* parallel, Evaluation* out,
                                const PlaneModel* plane, PairNormalMemo memo) {
   // Without r_sq the pass keeps a point's squared errors in a stack buffer of this size.
   assert(assoc.k <= AssociationTable::kMaxNeighbours);
@@ -397,7 +397,7 @@ void NormalEquations::evaluate(const PointCloud& source, const PointCloud& targe
   dyadic.inv_scale_sq = weights.inv_scale_sq;
   auto run = [&](const auto& e_step, auto kPlane, auto kPairNormals) {
     pass<decltype(kPlane)::value, decltype(kPairNormals)::value>(
-        e_step, source, target, assoc, T, w_prev, w_new, r_sq, pool, plane, memo,
+        e_step, source, target, assoc, T, w_prev, w_new, r_sq, parallel, plane, memo,
         four_points ? &dyadic : nullptr);
   };
   with_weight_kernel<false>(weights.model, weights.dof, weights.inv_scale_sq,
@@ -451,13 +451,13 @@ Matrix6d NormalEquations::normal_information(const PointCloud& source,
                                              const AssociationTable& assoc,
                                              const Eigen::Isometry3d& T, const double* w,
                                              const Buffer<PlanePoint>& target_points,
-                                             const ThreadPool* pool,
+                                             const Parallel* parallel,
                                              std::vector<Matrix6d>* blocks) {
   const std::size_t k = static_cast<std::size_t>(assoc.k);
   const std::size_t n = source.size();
   blocks->resize(block_count(n, kBlockSize));
   // Upper blocks only (top left, top right, bottom right); the bottom left by symmetry below.
-  parallel_for_blocks(pool, n, kBlockSize,
+  parallel_for_blocks(parallel, n, kBlockSize,
                       [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
                         Matrix6d H = Matrix6d::Zero();
                         for (std::size_t j = begin; j < end; ++j) {

@@ -36,7 +36,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;       // thread_pool.hpp
+class Parallel;         // parallel.hpp
 struct DyadicStudentT;  // four_points.hpp
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
@@ -75,10 +75,10 @@ static_assert(sizeof(PlaneInformation) == 64, "PlaneInformation: one cache line"
 
 /// Packs target[i], normals[i] and epsilon into (*out)[i] (sizes must match), with b_z of
 /// b = a y + n (n . y), and, when `information` is given, Omega and b's x and y into
-/// (*information)[i]. Set-up: allocates; parallel over the points on the pool's threads (null:
-/// the calling thread).
+/// (*information)[i]. Set-up: allocates; parallel over the points on the threads of `parallel`
+/// (null: the calling thread).
 void pack_plane_points(const PointCloud& target, const std::vector<Eigen::Vector3d>& normals,
-                       double epsilon, const ThreadPool* pool, Buffer<PlanePoint>* out,
+                       double epsilon, const Parallel* parallel, Buffer<PlanePoint>* out,
                        Buffer<PlaneInformation>* information = nullptr);
 
 /// What the plane pass forms the pairs' normals from (pair_normals.hpp): the source normals of
@@ -160,7 +160,7 @@ class NormalEquations {
   /// normals, memo.slots (if not null) keeps them from a pass to the next (PairNormalMemo).
   void evaluate(const PointCloud& source, const PointCloud& target, const AssociationTable& assoc,
                 const WeightParams& weights, const Eigen::Isometry3d& T, const double* w_prev,
-                double* w_new, double* r_sq, const ThreadPool* pool, Evaluation* out,
+                double* w_new, double* r_sq, const Parallel* parallel, Evaluation* out,
                 const PlaneModel* plane = nullptr, PairNormalMemo memo = {});
 
   /// Whether evaluate() may take the pair normals' points four at a time (four_points.hpp) where
@@ -170,20 +170,20 @@ class NormalEquations {
   /// sum_j J_j^T (sum_k w_kj n_k n_k^T) J_j at T with the given weights (n_k n_k^T replaced by I
   /// for a target point without a normal): the information of the surface-normal part of the
   /// plane model alone (no epsilon), whose null directions are the motions the target's geometry
-  /// leaves unconstrained. Once per registration, on the pool's threads (null: the calling
+  /// leaves unconstrained. Once per registration, on the threads of `parallel` (null: the calling
   /// thread): summed per block of kBlockSize source points into *blocks (resized; allocates only
   /// when it grows), then over the blocks in order, so that the sum does not depend on the
   /// thread count.
   static Matrix6d normal_information(const PointCloud& source, const AssociationTable& assoc,
                                      const Eigen::Isometry3d& T, const double* w,
                                      const Buffer<PlanePoint>& target_points,
-                                     const ThreadPool* pool, std::vector<Matrix6d>* blocks);
+                                     const Parallel* parallel, std::vector<Matrix6d>* blocks);
 
  private:
   template <bool kPlane, bool kPairNormals, class Kernel>
   void pass(const Kernel& e_step, const PointCloud& source, const PointCloud& target,
             const AssociationTable& assoc, const Eigen::Isometry3d& T, const double* w_prev,
-            double* w_new, double* r_sq, const ThreadPool* pool, const PlaneModel* plane,
+            double* w_new, double* r_sq, const Parallel* parallel, const PlaneModel* plane,
             PairNormalMemo memo, const DyadicStudentT* four_points);
   std::vector<BlockSums> blocks_;
   bool four_points_ = true;

@@ -18,6 +18,7 @@
 #include "format.hpp"
 #include "kdtree.hpp"
 #include "lm_solver.hpp"
+#include "parallel.hpp"
 #include "point_spacing.hpp"
 #include "pose_acceleration.hpp"
 #include "ppcr/metrics.hpp"
@@ -26,7 +27,6 @@
 #include "spatial_order.hpp"
 #include "target_normals.hpp"
 #include "termination.hpp"
-#include "thread_pool.hpp"
 #include "verdict.hpp"
 
 namespace ppcr {
@@ -115,13 +115,15 @@ struct SurfaceFits {
 
 struct Registration::Impl {
   explicit Impl(const RegistrationOptions& o)
-      : options(o), options_status(validate(o)), pool(options_status.ok() ? o.num_threads : 1) {}
+      : options(o),
+        options_status(validate(o)),
+        parallel(options_status.ok() ? o.num_threads : 1) {}
 
   RegistrationOptions options;  // the user's
   RegistrationOptions solver;   // the same in the internal unit of the current target
   Status options_status;
   // Up to options.num_threads threads (1 for refused options), the workers started with it.
-  detail::ThreadPool pool;
+  detail::Parallel parallel;
   bool has_target = false;
   Status target_status;  // the last set_target()'s or set_target_to_source()'s, for align()
   detail::PreparedCloud target;
@@ -256,13 +258,13 @@ Status Registration::Impl::make_target(const PointCloud& cloud, double voxel) {
 // its bound (a scanner's invalid returns, thousands at its origin, made a full-resolution scan
 // pair take twice as long).
 void Registration::Impl::order(detail::PreparedCloud* cloud) {
-  detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch, &pool);
+  detail::spatial_sort(&cloud->centered, nullptr, &sort_scratch, &parallel);
   cloud->duplicates = detail::drop_duplicates(&cloud->centered);
 }
 
 // The prepared, Z-ordered target's tree and (plane model) normal fits, then adopt_target().
 Status Registration::Impl::index_target() {
-  const Status s = tree.build(target.centered, &pool);
+  const Status s = tree.build(target.centered, &parallel);
   if (!s.ok()) return s;
   std::vector<Eigen::Vector3d> normals;  // packed by adopt_target, then freed
   return adopt_target(
@@ -282,8 +284,8 @@ SurfaceFits Registration::Impl::fit_surface(const PointCloud& cloud, const detai
   const bool boundaries = normals != nullptr && options.expert.reject_boundary;
   if (!boundaries) boundary->clear();
   if (normals != nullptr) {
-    detail::compute_normals(cloud, index, options.expert.normal_neighbours, &pool, normals, &spread,
-                            &reach, &nearest_sq, boundaries ? boundary : nullptr);
+    detail::compute_normals(cloud, index, options.expert.normal_neighbours, &parallel, normals,
+                            &spread, &reach, &nearest_sq, boundaries ? boundary : nullptr);
   }
   std::vector<double> scratch;  // the spacing's samples
   SurfaceFits summary;
@@ -311,7 +313,7 @@ Status Registration::Impl::adopt_target(const SurfaceFits& fits,
   if (plane_model()) {
     // The pair normals form each pair's information in the pass: no per-target-point moments.
     auto* information = pair_normals() ? nullptr : &target_plane_information;
-    detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon, &pool,
+    detail::pack_plane_points(target.centered, normals, solver.expert.plane_epsilon, &parallel,
                               &target_plane_points, information);
     plane.points = &target_plane_points;
     plane.information = information;
@@ -353,7 +355,7 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_spacing = target.unit * target_fits.spacing;
   result->radius = radius;
   if (pair_normals()) {
-    s = source_tree.build(source.centered, &pool);
+    s = source_tree.build(source.centered, &parallel);
     if (!s.ok()) return s;
     // With the fits' medians, so that set_target_to_source() can make this source the target.
     source_fits = fit_surface(source.centered, source_tree, &source_normals, &source_boundary);
@@ -368,7 +370,7 @@ detail::LMProblem Registration::Impl::problem(double step_reference, double sour
   p.assoc = &associator.table();
   p.weights = detail::weight_params(solver);
   p.plane = plane_model() ? &plane : nullptr;
-  p.pool = &pool;
+  p.parallel = &parallel;
   p.step_reference = step_reference;
   p.source_extent = source_extent;
   return p;
@@ -402,7 +404,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   const double reference_length = std::min(o.radius, source_extent);
   const std::size_t n = source.centered.size();
   const detail::Associator::Settings settings{o.max_neighbours, o.radius, o.expert.neighbour_cache,
-                                              detail::coarse_stride(o, n), &pool};
+                                              detail::coarse_stride(o, n), &parallel};
   associator.prepare(settings, source.centered, pair_normals() ? &source_normals : nullptr);
   plane.pair_source = associator.pair_normal_source();
   lm.resize(n, o.max_neighbours);
@@ -593,7 +595,7 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
                                     planes ? &target_plane_points : nullptr, target_fits.reach};
   const detail::AlignmentQuality q = detail::measure_alignment(
       tree, target.centered, source.centered, pair_normals() ? &source_tree : nullptr, T,
-      solver.radius, std::min(solver.radius, kNearSpacings * spacing), surface, &pool,
+      solver.radius, std::min(solver.radius, kNearSpacings * spacing), surface, &parallel,
       &quality_scratch);
   result->fitness = q.fitness;
   result->inlier_rmse = run.frame.length(q.inlier_rmse);
@@ -604,8 +606,8 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   if (!planes) return;
   const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
-      associator.points(), associator.table(), T, lm.weights().data(), target_plane_points, &pool,
-      &information_blocks);
+      associator.points(), associator.table(), T, lm.weights().data(), target_plane_points,
+      &parallel, &information_blocks);
   result->degenerate_directions = detail::degenerate_directions(H_normal, run.source_rms);
 }
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "thread_pool.hpp"
+#include "parallel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -53,7 +53,7 @@ void permute(Buffer<MortonKey>* keys, PointCloud* a, PointCloud* b) {
 }  // namespace
 
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
-                  const ThreadPool* pool) {
+                  const Parallel* parallel) {
   assert(b == nullptr || b->size() == a->size());
   const std::size_t n = a->size();
   // The order is only an optimisation: a cloud too large for the 31-bit indices keeps its own.
@@ -76,7 +76,7 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
     keys.reserve(n);
   }
   keys.resize(n);
-  parallel_for(pool, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
+  parallel_for(parallel, static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t j) {
     const std::size_t i = static_cast<std::size_t>(j);
     const Eigen::Vector3d q = (((*a)[i] - lo) / extent * kCells).array().floor().min(kCells - 1.0);
     const std::uint64_t code = spread_bits(static_cast<std::uint64_t>(q.x())) |
@@ -87,10 +87,10 @@ void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
   // (code, index) keys are distinct: a total order, which any sort gives alike. With more than
   // one thread, the halves below and above the median key are sorted at once (nth_element
   // costs a fraction of the sort, and needs no memory).
-  if (pool != nullptr && pool->threads() > 1) {
+  if (parallel != nullptr && parallel->threads() > 1) {
     const auto mid = keys.begin() + static_cast<std::ptrdiff_t>(n / 2);
     std::nth_element(keys.begin(), mid, keys.end());
-    parallel_for(pool, 2, [&](std::ptrdiff_t half) {
+    parallel_for(parallel, 2, [&](std::ptrdiff_t half) {
       if (half == 0) {
         std::sort(keys.begin(), mid);
       } else {

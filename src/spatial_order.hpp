@@ -24,7 +24,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 /// A point's sort key: its Morton code, then its index (distinct: a total order).
 struct MortonKey {
@@ -36,7 +36,7 @@ struct MortonKey {
 };
 
 /// The buffer of spatial_sort (16 B per point), kept between calls so that a cloud of the same
-/// size reuses it. A Buffer: a larger cloud's keys are first written on the pool's threads.
+/// size reuses it. A Buffer: a larger cloud's keys are first written on the threads of `parallel`.
 struct SpatialSortScratch {
   Buffer<MortonKey> keys;
 };
@@ -46,10 +46,10 @@ struct SpatialSortScratch {
 /// longest side, ties (one cell) by x, then y, then z, then index: equal points end up adjacent,
 /// in their input order. Points must be finite; a cloud of fewer than 2 or 2^31 or more points,
 /// of identical points or whose extent overflows a double is left as it is. Allocation-free once
-/// the scratch is as large. Parallel on the pool's threads (null: the calling thread); the order
-/// does not depend on their number.
+/// the scratch is as large. Parallel on the threads of `parallel` (null: the calling thread); the
+/// order does not depend on their number.
 void spatial_sort(PointCloud* a, PointCloud* b, SpatialSortScratch* scratch,
-                  const ThreadPool* pool = nullptr);
+                  const Parallel* parallel = nullptr);
 
 /// Removes the exact duplicates of a cloud in spatial_sort()'s order, where they are adjacent:
 /// of each run of equal points (==, so -0 equals +0) the first is kept. Returns how many were

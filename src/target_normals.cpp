@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "boundary.hpp"
+#include "parallel.hpp"
 #include "point_spacing.hpp"
-#include "thread_pool.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -45,7 +45,7 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n) 
 }
 
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
-                     const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
+                     const Parallel* parallel, std::vector<Eigen::Vector3d>* normals,
                      Buffer<double>* spread, Buffer<double>* reach, Buffer<double>* nearest_sq,
                      Buffer<std::uint8_t>* boundary) {
   // Sized, not filled: the loop writes every entry (each point is in the leaf order once), so
@@ -71,7 +71,7 @@ void compute_normals(const PointCloud& points, const KdTree& tree, int neighbour
   // search skips, never its result, so neither the blocks nor the threads change the normals.
   constexpr std::size_t kSeedBlock = 64;
   parallel_for_blocks(
-      pool, order.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
+      parallel, order.size(), kSeedBlock, [&](std::ptrdiff_t, std::size_t begin, std::size_t end) {
         std::uint32_t idx[kMaxNeighbours];
         double d2[kMaxNeighbours];
         int found = 0;  // the previous point's neighbours, idx[0..found)

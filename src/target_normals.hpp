@@ -15,7 +15,7 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace detail {
 
-class ThreadPool;  // thread_pool.hpp
+class Parallel;  // parallel.hpp
 
 /// The plane fit of one neighbourhood, points[idx[0..n)] summed in that order: normal is the unit
 /// eigenvector of the smallest eigenvalue of their covariance (about their mean), spread the
@@ -49,7 +49,7 @@ NormalFit fit_normal(const PointCloud& points, const std::uint32_t* idx, int n);
 /// If boundary is not null, boundary[i] = 1 where points[i] lies on the cloud's boundary by those
 /// neighbours and its normal (on_boundary(), boundary.hpp), else 0.
 void compute_normals(const PointCloud& points, const KdTree& tree, int neighbours,
-                     const ThreadPool* pool, std::vector<Eigen::Vector3d>* normals,
+                     const Parallel* parallel, std::vector<Eigen::Vector3d>* normals,
                      Buffer<double>* spread = nullptr, Buffer<double>* reach = nullptr,
                      Buffer<double>* nearest_sq = nullptr,
                      Buffer<std::uint8_t>* boundary = nullptr);

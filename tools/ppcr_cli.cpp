@@ -15,6 +15,7 @@
 #include <iostream>
 #include <string>
 
+#include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
 #include "ppcr/io.hpp"
@@ -233,6 +234,7 @@ int judge(const Arguments& a, const ppcr::RegistrationResult& result) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppcr_tools::use_passive_openmp_threads(argv);  // idle OpenMP threads sleep
   Arguments a;
   const int parsed = parse(argc, argv, &a);
   if (parsed >= 0) return parsed;

@@ -14,18 +14,18 @@
 #include <utility>
 #include <vector>
 
+#include "parallel.hpp"
 #include "ppcr/types.hpp"
-#include "thread_pool.hpp"
 
 namespace core_test {
 
-// The pool for a test's parallel loops: `threads` threads (at most 8), or null (the calling
-// thread alone) for 1. One pool per count, kept for the test program's life.
-inline const ppcr::detail::ThreadPool* pool(int threads) {
-  static std::unique_ptr<ppcr::detail::ThreadPool> pools[9];
+// The threads of a test's parallel loops: `threads` threads (at most 8), or null (the calling
+// thread alone) for 1. One Parallel per count, kept for the test program's life.
+inline const ppcr::detail::Parallel* parallel(int threads) {
+  static std::unique_ptr<ppcr::detail::Parallel> by_count[9];
   if (threads <= 1) return nullptr;
-  std::unique_ptr<ppcr::detail::ThreadPool>& p = pools[std::min(threads, 8)];
-  if (!p) p.reset(new ppcr::detail::ThreadPool(std::min(threads, 8)));
+  std::unique_ptr<ppcr::detail::Parallel>& p = by_count[std::min(threads, 8)];
+  if (!p) p.reset(new ppcr::detail::Parallel(std::min(threads, 8)));
   return p.get();
 }
 

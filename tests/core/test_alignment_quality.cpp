@@ -114,7 +114,7 @@ TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts,
       std::vector<double> scratch;
       const ppcr::detail::AlignmentQuality q = ppcr::detail::measure_alignment(
           target_tree, target, source, &source_tree, T, radius, near, {close, &planes, close},
-          core_test::pool(threads), &scratch);
+          core_test::parallel(threads), &scratch);
       const PlainSums s = plain_nearest(target_tree, source, T, radius * radius, near * near,
                                         close * close, &planes);
       const PlainSums back = plain_nearest(source_tree, target, T.inverse(), radius * radius,
@@ -135,7 +135,7 @@ TEST_CASE("measure_alignment's seeded queries give the unseeded queries' counts,
       // (the source points with a target point within the radius).
       const ppcr::detail::AlignmentQuality swapped = ppcr::detail::measure_alignment(
           source_tree, source, target, &target_tree, T.inverse(), radius, near,
-          {close, nullptr, close}, core_test::pool(threads), &scratch);
+          {close, nullptr, close}, core_test::parallel(threads), &scratch);
       REQUIRE(q.fitness < static_cast<double>(back.matched) / static_cast<double>(target.size()));
       CHECK(swapped.overlap == static_cast<double>(s.matched) / static_cast<double>(source.size()));
     }

@@ -49,7 +49,8 @@ TEST_CASE("associate matches brute force with a transform applied", "[associatio
       for (int threads : {1, 2}) {
         AssociationTable table;
         table.resize(source.size(), k);
-        ppcr::detail::associate(tree, source, T, radius * radius, core_test::pool(threads), &table);
+        ppcr::detail::associate(tree, source, T, radius * radius, core_test::parallel(threads),
+                                &table);
         INFO("k " << k << " radius " << radius << " threads " << threads);
         CHECK(table_mismatch(table, source, target, T, radius * radius) == "");
         CHECK(table.pairs > 0);
@@ -92,7 +93,7 @@ TEST_CASE("associate: no target point in range gives zero pairs and zero matched
   table.resize(source.size(), 5);
   Eigen::Isometry3d far = Eigen::Isometry3d::Identity();
   far.translation() = Eigen::Vector3d(10.0, 0.0, 0.0);
-  ppcr::detail::associate(tree, source, far, 1.0, core_test::pool(2), &table);
+  ppcr::detail::associate(tree, source, far, 1.0, core_test::parallel(2), &table);
   CHECK(table.pairs == 0u);
   CHECK(table.matched == 0u);
   CHECK(
@@ -112,7 +113,7 @@ TEST_CASE("associate: bit-identical tables with 1 and 2 threads", "[association]
     one.resize(source.size(), k);
     two.resize(source.size(), k);
     ppcr::detail::associate(tree, source, T, 0.01, nullptr, &one);
-    ppcr::detail::associate(tree, source, T, 0.01, core_test::pool(2), &two);
+    ppcr::detail::associate(tree, source, T, 0.01, core_test::parallel(2), &two);
     CHECK(one.pairs > 0u);
     CHECK(same_tables(one, two));
   }

@@ -175,7 +175,7 @@ TEST_CASE("compute_normals flags a sampled patch's edge and not its interior", "
   for (int threads : {1, 2}) {
     std::vector<Eigen::Vector3d> normals;
     ppcr::detail::Buffer<std::uint8_t> boundary;
-    ppcr::detail::compute_normals(patch, tree, 20, core_test::pool(threads), &normals, nullptr,
+    ppcr::detail::compute_normals(patch, tree, 20, core_test::parallel(threads), &normals, nullptr,
                                   nullptr, nullptr, &boundary);
     REQUIRE(boundary.size() == patch.size());
     int edge = 0, interior = 0;

@@ -282,7 +282,7 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
       }
     }
     KdTree tree;  // built on two threads for every other cloud: the same tree
-    REQUIRE(tree.build(cloud, c % 2 == 0 ? nullptr : core_test::pool(2)).ok());
+    REQUIRE(tree.build(cloud, c % 2 == 0 ? nullptr : core_test::parallel(2)).ok());
     const ppcr::detail::CloudAdaptor adaptor{&cloud};
     const ppcr::detail::Tree reference(
         3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
@@ -343,7 +343,7 @@ TEST_CASE("the tree is nanoflann's: its leaf order on 1 and 2 threads", "[kdtree
     for (int threads : {1, 2}) {
       INFO("cloud " << c << " (" << cloud.size() << " points), " << threads << " thread(s)");
       KdTree tree;
-      REQUIRE(tree.build(cloud, core_test::pool(threads)).ok());
+      REQUIRE(tree.build(cloud, core_test::parallel(threads)).ok());
       const auto& order = tree.leaf_order();
       REQUIRE(order.size() == expected.size());
       CHECK(std::equal(order.begin(), order.end(), expected.begin()));

@@ -50,7 +50,7 @@ LMProblem make_problem(const PointCloud& source, const PointCloud& target,
   pb.weights.model = model;
   pb.weights.dof = 5.0;
   pb.weights.inv_scale_sq = 1.0;
-  pb.pool = nullptr;
+  pb.parallel = nullptr;
   pb.step_reference = 1e-3;  // step tolerance 1e-10 absolute: it does not limit 1e-9 accuracy
   pb.source_extent = extent(source);
   return pb;
@@ -283,7 +283,7 @@ TEST_CASE("LM with k > 1 and IRLS weights: consistent summary, identical with 1 
   LMSummary s1, s2;
   for (int threads : {1, 2}) {
     LMProblem pb = scene.problem();
-    pb.pool = core_test::pool(threads);
+    pb.parallel = core_test::parallel(threads);
     LMSolver solver;
     solver.resize(source.size(), IrlsScene::kNeighbours);
     LMOptions options;

@@ -15,9 +15,9 @@
 #include "core_test_util.hpp"
 #include "kdtree.hpp"
 #include "neighbour_cache.hpp"
+#include "parallel.hpp"
 #include "ppcr/registration.hpp"
 #include "spatial_order.hpp"
-#include "thread_pool.hpp"
 
 using core_test::Rng;
 using core_test::table_mismatch;
@@ -530,14 +530,14 @@ TEST_CASE(
   const double radius = 0.15;
   const int k = 10, capacity = 14;
   constexpr std::size_t kSwitch = 7;  // the first pose of the full level: in the slow drift
-  ppcr::detail::ThreadPool two(2);
+  ppcr::detail::Parallel two(2);
   // The rows spread on one thread and on two (spread_lists moves rows in parallel rounds).
-  for (const auto& [stride, pool] :
-       {std::pair<std::size_t, const ppcr::detail::ThreadPool*>{2, nullptr},
+  for (const auto& [stride, parallel] :
+       {std::pair<std::size_t, const ppcr::detail::Parallel*>{2, nullptr},
         {3, nullptr},
         {2, &two},
         {3, &two}}) {
-    INFO("stride " << stride << ", threads " << (pool != nullptr ? 2 : 1));
+    INFO("stride " << stride << ", threads " << (parallel != nullptr ? 2 : 1));
     PointCloud coarse;
     for (std::size_t i = 0; i < source.size(); i += stride) coarse.push_back(source[i]);
     NeighbourCache cache;
@@ -557,7 +557,7 @@ TEST_CASE(
     const NeighbourCache before = cache;
     const AssociationTable table_before = table;
     const std::uint32_t* cache_data = cache.index.data();
-    ppcr::detail::spread_lists(stride, source.size(), &cache, &table, pool);
+    ppcr::detail::spread_lists(stride, source.size(), &cache, &table, parallel);
     CHECK(table.index.data() == index_data);  // grown within their capacity
     CHECK(cache.index.data() == cache_data);
     REQUIRE(cache.count.size() == source.size());
@@ -610,16 +610,16 @@ TEST_CASE("spread_lists: row i lands at row i * stride, on 1 and 2 threads, the 
   // Rows that name their source row, so that a row taken from the wrong place, or overwritten
   // before it was read, shows. 6000 rows: the rounds then span several blocks each, so that two
   // threads move rows at once. Point counts that are not a multiple of the stride.
-  ppcr::detail::ThreadPool two(2);
+  ppcr::detail::Parallel two(2);
   const int k = 3, capacity = 5;
   const std::size_t cap = static_cast<std::size_t>(capacity), kk = static_cast<std::size_t>(k);
   for (std::size_t coarse : {0u, 1u, 2u, 7u, 6000u}) {
     for (std::size_t stride : {2u, 3u, 64u}) {
       const std::size_t points = coarse == 0 ? 0 : (coarse - 1) * stride + 1 + stride / 2;
-      for (const ppcr::detail::ThreadPool* pool :
-           {static_cast<ppcr::detail::ThreadPool*>(nullptr), &two}) {
+      for (const ppcr::detail::Parallel* parallel :
+           {static_cast<ppcr::detail::Parallel*>(nullptr), &two}) {
         INFO("coarse " << coarse << ", stride " << stride << ", threads "
-                       << (pool != nullptr ? 2 : 1));
+                       << (parallel != nullptr ? 2 : 1));
         NeighbourCache cache;
         AssociationTable table;
         cache.resize(points, capacity);  // as the associator: every point first
@@ -641,7 +641,7 @@ TEST_CASE("spread_lists: row i lands at row i * stride, on 1 and 2 threads, the 
           }
           table.count[i] = static_cast<std::uint16_t>(i % kk);
         }
-        ppcr::detail::spread_lists(stride, points, &cache, &table, pool);
+        ppcr::detail::spread_lists(stride, points, &cache, &table, parallel);
         REQUIRE(cache.count.size() == points);
         REQUIRE(table.count.size() == points);
         std::size_t wrong = 0, listed_others = 0;
@@ -681,7 +681,7 @@ TEST_CASE("associate_cached: same tables and query counts with 1 and 2 threads",
   t2.resize(source.size(), 10);
   for (const Eigen::Isometry3d& T : poses) {
     ppcr::detail::associate_cached(tree, target, source, T, 0.1, nullptr, &c1, &t1);
-    ppcr::detail::associate_cached(tree, target, source, T, 0.1, core_test::pool(2), &c2, &t2);
+    ppcr::detail::associate_cached(tree, target, source, T, 0.1, core_test::parallel(2), &c2, &t2);
     CHECK(c1.last_queries == c2.last_queries);
     CHECK(t1.count == t2.count);
     CHECK(rows_differing(t1, t2) == 0);

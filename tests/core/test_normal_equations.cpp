@@ -15,8 +15,8 @@
 #include "kdtree.hpp"
 #include "normal_equations.hpp"
 #include "pair_normal_reference.hpp"
+#include "parallel.hpp"
 #include "ppcr/se3.hpp"
-#include "thread_pool.hpp"
 #include "weights.hpp"
 
 using core_test::Rng;
@@ -238,7 +238,8 @@ Output run(const Problem& pb, const WeightParams& wp, const Eigen::Isometry3d& T
   out.w.assign(slots, 0.0);
   if (with_r_sq) out.r_sq.assign(slots, 0.0);
   ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w_prev, out.w.data(),
-              with_r_sq ? out.r_sq.data() : nullptr, core_test::pool(threads), &out.eval, plane);
+              with_r_sq ? out.r_sq.data() : nullptr, core_test::parallel(threads), &out.eval,
+              plane);
   return out;
 }
 
@@ -477,9 +478,9 @@ TEST_CASE("rows left out (AssociationTable::left_out) are as rows without pairs,
         std::vector<Matrix6d> blocks;
         const ppcr::detail::Buffer<ppcr::detail::PlanePoint>& points = every.packed.points;
         CHECK(NormalEquations::normal_information(pb.source, left.assoc, pb.T, a.w.data(), points,
-                                                  core_test::pool(threads), &blocks) ==
+                                                  core_test::parallel(threads), &blocks) ==
               NormalEquations::normal_information(pb.source, emptied.assoc, pb.T, b.w.data(),
-                                                  points, core_test::pool(threads), &blocks));
+                                                  points, core_test::parallel(threads), &blocks));
       }
     }
   }
@@ -559,7 +560,7 @@ TEST_CASE("evaluate in place (w_prev = w_new) equals separate arrays, every mode
         std::vector<double> w = w_prev;
         Evaluation in_place;
         ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w.data(), w.data(), nullptr,
-                    core_test::pool(threads), &in_place, model);
+                    core_test::parallel(threads), &in_place, model);
         INFO("plane " << (model != nullptr) << " pair normals "
                       << (model != nullptr && model->pair_source != nullptr) << " dof " << wp.dof
                       << " inv_scale_sq " << wp.inv_scale_sq << " threads " << threads);
@@ -764,10 +765,10 @@ TEST_CASE("normal_information equals the naive sum of w J^T n n^T J (I without a
                                                            points, nullptr, &blocks);
   CHECK(rel_diff(got, ref) < 1e-12);
   // Summed in fixed blocks: the same to the bit on two threads.
-  ppcr::detail::ThreadPool pool(2);
+  ppcr::detail::Parallel parallel(2);
   std::vector<Matrix6d> blocks2;
   const Matrix6d got2 = NormalEquations::normal_information(pb.source, pb.assoc, pb.T, w.data(),
-                                                            points, &pool, &blocks2);
+                                                            points, &parallel, &blocks2);
   CHECK(got2 == got);
 }
 
@@ -842,10 +843,10 @@ TEST_CASE("pack_plane_points holds Omega = a I + n n^T and b = Omega y", "[norma
             1e-12 * (b.norm() + pb.target[i].norm()));
     }
     // Packed on two threads: the same records, to the bit.
-    const ppcr::detail::ThreadPool pool(2);
+    const ppcr::detail::Parallel parallel(2);
     ppcr::detail::Buffer<ppcr::detail::PlanePoint> points;
     ppcr::detail::Buffer<ppcr::detail::PlaneInformation> information;
-    ppcr::detail::pack_plane_points(pb.target, packed.normals, epsilon, &pool, &points,
+    ppcr::detail::pack_plane_points(pb.target, packed.normals, epsilon, &parallel, &points,
                                     &information);
     REQUIRE(points.size() == pb.target.size());
     REQUIRE(information.size() == pb.target.size());
@@ -940,14 +941,14 @@ TEST_CASE("pair normals four points at a time equal one point at a time, to the 
               std::vector<double> separate(slots, 0.0);
               double* w_out = in_place ? w[four].data() : separate.data();
               ne.evaluate(pb.source, pb.target, pb.assoc, wp, T, w[four].data(), w_out,
-                          in_place ? nullptr : r_sq[four].data(), core_test::pool(threads),
+                          in_place ? nullptr : r_sq[four].data(), core_test::parallel(threads),
                           &eval[four], plane, pm);
               if (!in_place) w[four] = separate;
               // The memo read back at another pose (a later pass of the same solve).
               w_next[four] = w[four];
               if (memo_mode == 1) pm.fill = false;
               ne.evaluate(pb.source, pb.target, pb.assoc, wp, T_next, w_next[four].data(),
-                          w_next[four].data(), nullptr, core_test::pool(threads), &next[four],
+                          w_next[four].data(), nullptr, core_test::parallel(threads), &next[four],
                           plane, pm);
             }
             INFO("k " << cs.k << " dof " << wp.dof << " gaussian "

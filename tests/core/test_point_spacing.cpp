@@ -59,8 +59,8 @@ TEST_CASE("median_spacing from the normal fits' neighbours equals its own querie
       INFO(points.size() << " points, fits of " << k);
       std::vector<Eigen::Vector3d> normals;
       ppcr::detail::Buffer<double> nearest_sq(3, 1.0);
-      ppcr::detail::compute_normals(points, tree, k, core_test::pool(2), &normals, nullptr, nullptr,
-                                    &nearest_sq);
+      ppcr::detail::compute_normals(points, tree, k, core_test::parallel(2), &normals, nullptr,
+                                    nullptr, &nearest_sq);
       CHECK(nearest_sq.size() == (k < ppcr::detail::kSpacingNeighbours ? 0 : points.size()));
       CHECK(ppcr::detail::median_spacing(points, tree, 4096, &nearest_sq, &scratch) == queried);
     }

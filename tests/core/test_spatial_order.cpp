@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core_test_util.hpp"
+#include "parallel.hpp"
 #include "spatial_order.hpp"
-#include "thread_pool.hpp"
 
 using ppcr::PointCloud;
 using ppcr::detail::spatial_sort;
@@ -45,8 +45,8 @@ void check_sorted(const PointCloud& original, int threads) {
   PointCloud a = original;
   PointCloud b = index_cloud(a.size());
   SpatialSortScratch scratch;
-  const ppcr::detail::ThreadPool pool(threads);
-  spatial_sort(&a, &b, &scratch, &pool);
+  const ppcr::detail::Parallel parallel(threads);
+  spatial_sort(&a, &b, &scratch, &parallel);
   Eigen::Vector3d lo = original[0], hi = original[0];
   for (const Eigen::Vector3d& p : original) {
     lo = lo.cwiseMin(p);

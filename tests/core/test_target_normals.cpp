@@ -23,7 +23,7 @@ std::vector<Eigen::Vector3d> normals_of(const PointCloud& cloud, int k, int thre
   ppcr::detail::KdTree tree;
   REQUIRE(tree.build(cloud).ok());
   std::vector<Eigen::Vector3d> normals;
-  ppcr::detail::compute_normals(cloud, tree, k, core_test::pool(threads), &normals);
+  ppcr::detail::compute_normals(cloud, tree, k, core_test::parallel(threads), &normals);
   REQUIRE(normals.size() == cloud.size());
   return normals;
 }
@@ -98,7 +98,7 @@ TEST_CASE("normals and spreads are identical with 1 and 2 threads", "[target_nor
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::Buffer<double> spread[2];
   for (int threads : {1, 2}) {
-    ppcr::detail::compute_normals(scene, tree, 20, core_test::pool(threads), &normals,
+    ppcr::detail::compute_normals(scene, tree, 20, core_test::parallel(threads), &normals,
                                   &spread[threads - 1]);
   }
   CHECK(spread[0] == spread[1]);
@@ -124,7 +124,7 @@ TEST_CASE(
   REQUIRE(tree.build(plane).ok());
   std::vector<Eigen::Vector3d> normals;
   ppcr::detail::Buffer<double> spread, reach;
-  ppcr::detail::compute_normals(plane, tree, k, core_test::pool(2), &normals, &spread, &reach);
+  ppcr::detail::compute_normals(plane, tree, k, core_test::parallel(2), &normals, &spread, &reach);
   REQUIRE(spread.size() == plane.size());
   REQUIRE(reach.size() == plane.size());
   for (std::size_t i = 0; i < plane.size(); ++i) {
@@ -188,7 +188,8 @@ TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounde
       for (int threads : {1, 2}) {
         std::vector<Eigen::Vector3d> normals;
         ppcr::detail::Buffer<double> spread;
-        ppcr::detail::compute_normals(*cloud, tree, k, core_test::pool(threads), &normals, &spread);
+        ppcr::detail::compute_normals(*cloud, tree, k, core_test::parallel(threads), &normals,
+                                      &spread);
         std::size_t mismatches = 0, with_normal = 0;
         std::uint32_t idx[64];
         double d2[64];

@@ -33,6 +33,7 @@
 #include "bench/run_settings.hpp"
 #include "bench/shard.hpp"
 #include "bench/summary.hpp"
+#include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
 #include "ppcr/io.hpp"
@@ -453,6 +454,7 @@ int run(const CLI::App& app, Arguments a, const ppcr::RegistrationOptions& optio
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppcr_tools::use_passive_openmp_threads(argv);  // idle OpenMP threads sleep
   Arguments a;
   ppcr::RegistrationOptions options;
   CLI::App app{

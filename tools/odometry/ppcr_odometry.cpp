@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "odometry/odometry.hpp"
 #include "odometry/pair_registrar.hpp"
@@ -211,6 +212,7 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppcr_tools::use_passive_openmp_threads(argv);  // idle OpenMP threads sleep
   Arguments a;
   CLI::App app{
       "Registers a sequence of scans into a trajectory (each scan onto the previous one or a "
