@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian 12 machine: installs what is missing, configures,
 # builds and runs every test. `.ci/run` calls exactly this.
-#   tools/test.sh            the default stages: release, sanitize, fuzz, fma
-#   PPCR_TEST_STAGES="release" tools/test.sh    only some stages (release, sanitize, fuzz, fma)
+#   tools/test.sh            the default stages: release, minimal, sanitize, fuzz, fma
+#   PPCR_TEST_STAGES="release" tools/test.sh    only some stages
 #   PPCR_TEST_STAGES="nanoflann-next" tools/test.sh   the release build against Debian 13's
 #                                                      nanoflann (downloads it; not a default)
 # Every test runs in the release stage, the real-scan ones included, and the Python module's
@@ -10,7 +10,9 @@
 # $PPCR_PYTHON). The sanitize stage runs the library's tests that need no real data (the
 # real-scan cases exercise the same code on bigger clouds, already run once; the tools' code is
 # fuzzed through the readers and parsed in release); the fma stage the core's and readers' tests
-# (the exact equalities); the fuzz stage runs each fuzzer for a bounded time.
+# (the exact equalities); the fuzz stage runs each fuzzer for a bounded time. The minimal stage
+# builds the core as an embedded build would vendor it (-fno-exceptions -fno-rtti, no OpenMP, no
+# I/O) and runs the core's and reliability tests against it, the real-scan ones included.
 # Real-scan tests read ../shared/data (or $PPCR_DATA_DIR) and are skipped when it is absent.
 # Strict mode (CI=true, as in CI, or PPCR_STRICT=1): nothing may be skipped. Missing real data,
 # a Python module or pytest that cannot be had, a fuzzer that does not run and a CPU-flag check
@@ -22,7 +24,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 "$root/tools/install_deps.sh"
 jobs=${PPCR_JOBS:-2}
-stages=${PPCR_TEST_STAGES:-release sanitize fuzz fma}
+stages=${PPCR_TEST_STAGES:-release minimal sanitize fuzz fma}
 strict=0
 if [[ ${CI:-} == true || ${PPCR_STRICT:-} == 1 ]]; then
   strict=1
@@ -92,6 +94,16 @@ for stage in $stages; do
       # shellcheck disable=SC2086
       build_and_test release build/test-release Release "" -DPPCR_BUILD_BENCHMARKS=ON \
         $python_flags
+      ;;
+    minimal)
+      echo "== minimal: the core with -fno-exceptions -fno-rtti, without OpenMP and I/O, and its tests"
+      build_and_test minimal build/test-minimal Release "" \
+        "-DCMAKE_CXX_FLAGS=-fno-exceptions -fno-rtti" -DPPCR_USE_OPENMP=OFF -DPPCR_BUILD_IO=OFF \
+        -DPPCR_BUILD_TOOLS=OFF -DPPCR_BUILD_SYNTHETIC=OFF -DPPCR_INSTALL=OFF
+      if nm -A build/test-minimal/libppcr.a | grep -E ' U (GOMP_|omp_|pthread_create)'; then
+        echo "test.sh: the minimal core links OpenMP or threads (symbols above)" >&2
+        exit 1
+      fi
       ;;
     sanitize)
       echo "== sanitize: the tests without real data under AddressSanitizer + UndefinedBehaviorSanitizer"
@@ -163,7 +175,7 @@ for stage in $stages; do
       fi
       ;;
     *)
-      echo "test.sh: unknown stage '$stage' (expected release, sanitize, fuzz, fma, nanoflann-next)" >&2
+      echo "test.sh: unknown stage '$stage' (expected release, minimal, sanitize, fuzz, fma, nanoflann-next)" >&2
       exit 2
       ;;
   esac
