@@ -25,6 +25,7 @@
 #include "neighbour_cache.hpp"
 #include "normal_equations.hpp"
 #include "ppcr/abi.hpp"
+#include "ppcr/options.hpp"
 #include "ppcr/types.hpp"
 
 namespace ppcr {
@@ -36,8 +37,8 @@ class Parallel;  // parallel.hpp
 class Associator {
  public:
   struct Settings {
-    int k = 10;                          // neighbours per source point
-    double radius = 1.0;                 // cloud units
+    int k = RegistrationOptions{}.max_neighbours;  // neighbours per source point
+    double radius = 1.0;                           // cloud units
     int cache_extra = 0;                 // extra cached candidates per point (0 = no cache)
     std::size_t coarse_stride = 1;       // 1 = no coarse level
     const Parallel* parallel = nullptr;  // null: the calling thread alone

@@ -14,14 +14,20 @@
 #pragma once
 
 #include "ppcr/abi.hpp"
+#include "ppcr/options.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 
+/// The inner LM's settings. max_iterations and function_tolerance default to the options'
+/// (ExpertOptions::lm_max_iterations, lm_function_tolerance: defined there once); the others have
+/// no option and are defined here.
 struct LMOptions {
-  int max_iterations = 50;            // LM iterations (accepted + rejected steps) per inner problem
-  double function_tolerance = 1e-5;   // stop after an accepted step that lowers the cost by less
-                                      // than this fraction of the cost before it (authors: 1e-5)
+  // LM iterations (accepted + rejected steps) per inner problem.
+  int max_iterations = ExpertOptions{}.lm_max_iterations;
+  // Stop after an accepted step that lowers the cost by less than this fraction of the cost
+  // before it (authors: 1e-5).
+  double function_tolerance = ExpertOptions{}.lm_function_tolerance;
   double gradient_tolerance = 1e-10;  // stop when max_i |g_i| <= this * max_i |g_i| at the start
   double step_tolerance = 1e-7;       // stop when a step would move no source point by more than
                                       // this fraction of the step reference (the radius; bound:

@@ -30,6 +30,7 @@
 #include "association.hpp"
 #include "buffer.hpp"
 #include "ppcr/abi.hpp"
+#include "ppcr/options.hpp"
 #include "weights.hpp"
 
 namespace ppcr {
@@ -42,9 +43,10 @@ struct DyadicStudentT;  // four_points.hpp
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+/// The E-step's parameters; model and dof default to the options' (options.hpp).
 struct WeightParams {
-  WeightModel model = WeightModel::kStudentT;
-  double dof = 5.0;
+  WeightModel model = ExpertOptions{}.weight_model;
+  double dof = RegistrationOptions{}.dof;
   double inv_scale_sq = 1.0;  // 1 / s^2
 };
 
@@ -104,7 +106,8 @@ struct PlaneModel {
   const Buffer<PlanePoint>* points = nullptr;
   // The same points' Omega and b (pack_plane_points); needed without pair_source, unused with it.
   const Buffer<PlaneInformation>* information = nullptr;
-  double epsilon = 0.05;  // in-plane weight (a of the pair normals; points carry their own a)
+  double epsilon = ExpertOptions{}.plane_epsilon;  // in-plane weight (a of the pair normals;
+                                                   // points carry their own a)
   // Optional (pair_normals.hpp): when set, each pair's normal, the mean of its target point's
   // and its source point's, replaces its target point's normal in Omega (fixed for the pass: not
   // a function of T).

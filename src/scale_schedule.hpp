@@ -20,17 +20,26 @@
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 
+/// The schedule's settings. The defaults of the fields with an option are the option's
+/// (ExpertOptions, options.hpp: each default is defined there once); settings.cpp fills them from
+/// the options. em_coarse_motion and em_coarse_max_motion have no option: defined here.
 struct WeightOptions {
-  ScaleMode scale_mode = ScaleMode::kEM;
-  double scale = 0.0;                  // kFixed: s; kEM: coarse s (0 = radius / 2); cloud units
-  double em_coarse_drop = 0.01;        // coarse phase: relative cost drop counted as settled
-  int em_coarse_patience = 10;         // coarse phase: settled after more than this many lows
-  double em_coarse_motion = 1e-3;      // coarse phase: or one iteration moving the source by less
-                                       // than this fraction of s (RMS)
-  double em_coarse_max_motion = 0.02;  // coarse phase: a low counts only when the source moved by
-                                       // less than this fraction of the radius (RMS); 0 = always
-  double em_min_shrink = 0.25;         // refine: s^2 shrinks by at most this factor per iteration
-  double em_min_scale = 0.0;           // refine: floor on s, cloud units (0 = none)
+  ScaleMode scale_mode = ExpertOptions{}.scale_mode;
+  // kFixed: s; kEM: the coarse s (0 = radius / 2). Cloud units.
+  double scale = ExpertOptions{}.scale;
+  // Coarse phase: a relative cost drop below em_coarse_drop for more than em_coarse_patience
+  // consecutive iterations is settled...
+  double em_coarse_drop = ExpertOptions{}.em_coarse_drop;
+  int em_coarse_patience = ExpertOptions{}.em_coarse_patience;
+  // ...or one iteration moving the source by less than this fraction of s (RMS).
+  double em_coarse_motion = 1e-3;
+  // A low counts only when the source moved by less than this fraction of the radius (RMS);
+  // 0 = always.
+  double em_coarse_max_motion = 0.02;
+  // Refine: s^2 shrinks by at most this factor per iteration, down to em_min_scale (cloud units,
+  // 0 = none).
+  double em_min_shrink = ExpertOptions{}.em_min_shrink;
+  double em_min_scale = ExpertOptions{}.em_min_scale;
 };
 
 namespace detail {

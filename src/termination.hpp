@@ -36,17 +36,19 @@
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 
+/// The criteria's settings, with the options' defaults (options.hpp, where each is defined once);
+/// settings.cpp fills them from the options.
 struct TerminationCriteria {
-  std::uint32_t criteria = kCriterionCostDrop;  // bitwise OR of Criterion
-  int max_iterations = 100;
-  int fixed_iterations = 100;
-  double cost_drop_threshold = 0.01;
-  int cost_drop_patience = 10;
-  double cost_drop_max_motion = 0.02;
-  double mse_ratio_threshold = 2.0;
-  int mse_patience = 3;
-  int successful_steps_threshold = 1;
-  int successful_steps_patience = 3;
+  std::uint32_t criteria = RegistrationOptions{}.criteria;  // bitwise OR of Criterion
+  int max_iterations = RegistrationOptions{}.max_iterations;
+  int fixed_iterations = ExpertOptions{}.fixed_iterations;
+  double cost_drop_threshold = ExpertOptions{}.cost_drop_threshold;
+  int cost_drop_patience = ExpertOptions{}.cost_drop_patience;
+  double cost_drop_max_motion = ExpertOptions{}.cost_drop_max_motion;
+  double mse_ratio_threshold = ExpertOptions{}.mse_ratio_threshold;
+  int mse_patience = ExpertOptions{}.mse_patience;
+  int successful_steps_threshold = ExpertOptions{}.successful_steps_threshold;
+  int successful_steps_patience = ExpertOptions{}.successful_steps_patience;
 };
 
 /// What the solver hands the monitor after each outer iteration.

@@ -122,10 +122,12 @@ TEST_CASE("cost drop: first-iteration behaviour", "[termination]") {
     CHECK(m.last_cost_drop() == 0.5);
     CHECK(m.update(report(2, 2.0, 1.99)) == StopReason::kCostDrop);
   }
-  // Default patience 10: not before iteration 11 even when every drop is low.
+  // The default patience, the option's (4): not before iteration 5 even when every drop is low.
+  const int patience = ppcr::ExpertOptions{}.cost_drop_patience;
+  CHECK(TerminationCriteria{}.cost_drop_patience == patience);
   TerminationMonitor m(only(ppcr::kCriterionCostDrop), some_moments(),
                        Eigen::Isometry3d::Identity());
-  CHECK(run(m, [](int t) { return report(t, 1.0, 1.0); }).first == 11);
+  CHECK(run(m, [](int t) { return report(t, 1.0, 1.0); }).first == patience + 1);
 }
 
 TEST_CASE("cost drop: negative drops (cost went up) are low", "[termination]") {
