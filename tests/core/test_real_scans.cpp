@@ -183,8 +183,8 @@ TEST_CASE("bunny: bun045 onto bun000 from identity (the paper's 45-degree case)"
   // degrees, as the data README says, but bun045_gt.txt rotates by 34.3).
   CHECK(ppcr::rotation_error_deg(Eigen::Isometry3d::Identity(), T_gt) > 30.0);
   // Measured when written: plane 0.066 degrees / 0.05 mm, with source normals 0.080 /
-  // 0.04 mm, with the noise floor 0.082 / 0.04 mm, issue #8's setting with 5 neighbours and
-  // coarse stride 3 (docs/BENCHMARK.md) 0.046 / 0.02 mm; point 0.39 degrees / 0.5 mm (the
+  // 0.04 mm, with the noise floor 0.082 / 0.04 mm, with 5 neighbours and coarse stride 3
+  // 0.046 / 0.02 mm; point 0.39 degrees / 0.5 mm (the
   // authors' code: 3.7-4.3 degrees on these clouds in metres, 0.52 in millimetres).
   for (const Setting& setting : kSettings) {
     RegistrationOptions o;
