@@ -13,8 +13,11 @@
 // binary_compressed: uint32 compressed size, uint32 uncompressed size (little endian), then LZF
 // data that decompresses to the fields in structure-of-arrays order (all x, then all y, ...).
 // As written by PCL, padding fields named "_" are absent from that data; data that include them
-// (uncompressed size = POINTS x full point size) are accepted too.
+// (uncompressed size = POINTS x full point size) are accepted too. A build of ppcr_io without
+// liblzf (PPCR_IO_HAVE_LZF unset: vendored where liblzf is missing) refuses such files, saying why.
+#if defined(PPCR_IO_HAVE_LZF)
 #include <lzf.h>
+#endif
 
 #include <memory>
 #include <string>
@@ -194,8 +197,36 @@ std::uint32_t load_u32_le(const unsigned char* p) {
 // a larger claimed ratio cannot be genuine and is refused before allocating.
 constexpr std::uint64_t kMaxLzfExpansion = 100;
 
+// lzf_decompress where this build has liblzf; 0 bytes otherwise (read_binary_compressed refuses
+// the file before).
+unsigned int decompress_lzf(const unsigned char* data, unsigned int size, unsigned char* out,
+                            unsigned int out_size) {
+#if defined(PPCR_IO_HAVE_LZF)
+  return lzf_decompress(data, size, out, out_size);
+#else
+  (void)data;
+  (void)size;
+  (void)out;
+  (void)out_size;
+  return 0;
+#endif
+}
+
+#if defined(PPCR_IO_HAVE_LZF)
+constexpr bool kHaveLzf = true;
+#else
+constexpr bool kHaveLzf = false;
+#endif
+
 Status read_binary_compressed(const Input& in, const PcdHeader& h, PointSink* sink,
                               PointCloud* cloud) {
+  if (!kHaveLzf) {
+    return parse_error(in,
+                       "DATA binary_compressed is LZF-compressed, and this build of ppcr_io "
+                       "was made without liblzf (found missing at configure time): install "
+                       "it (Debian: liblzf-dev) and rebuild ppcr, or save the cloud as "
+                       "binary or ascii PCD");
+  }
   const std::uint64_t remaining = in.size - h.body_offset;
   if (remaining < 8) {
     return parse_error(in, "binary_compressed data truncated at byte " + std::to_string(in.size) +
@@ -247,7 +278,7 @@ Status read_binary_compressed(const Input& in, const PcdHeader& h, PointSink* si
   }
   std::unique_ptr<unsigned char[]> buffer(new unsigned char[uncompressed]);
   const unsigned int got =
-      lzf_decompress(sizes + 8, compressed, buffer.get(), static_cast<unsigned int>(uncompressed));
+      decompress_lzf(sizes + 8, compressed, buffer.get(), static_cast<unsigned int>(uncompressed));
   if (got != uncompressed) {
     return parse_error(in, "binary_compressed LZF data from byte " +
                                std::to_string(h.body_offset + 8) + " is corrupt: decompressed " +

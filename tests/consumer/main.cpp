@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <ppcr/io.hpp>
 #include <ppcr/ppcr.hpp>
+#include <string>
 
 int main() {
   ppcr::PointCloud target;  // a wavy 1 m x 1 m surface, 2 cm spacing (metres)
@@ -25,6 +26,27 @@ int main() {
   if (s.ok()) s = ppcr::io::read_cloud(path, &target_read);
   std::filesystem::remove(path);
   if (!s.ok()) return std::printf("%s\n", s.to_string().c_str()), 1;
+#if defined(CONSUMER_NO_LZF)
+  {  // Built without liblzf: a binary_compressed PCD is refused, naming what is missing.
+    const std::string pcd =
+        (std::filesystem::temp_directory_path() / "ppcr_consumer_compressed.pcd").string();
+    if (std::FILE* f = std::fopen(pcd.c_str(), "wb")) {
+      const char text[] =
+          "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+          "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA binary_compressed\n";
+      std::fwrite(text, 1, sizeof text - 1, f);
+      const unsigned char sizes[8] = {4, 0, 0, 0, 12, 0, 0, 0};
+      std::fwrite(sizes, 1, 8, f);
+      std::fwrite("abcd", 1, 4, f);
+      std::fclose(f);
+    }
+    ppcr::PointCloud compressed;
+    const ppcr::Status c = ppcr::io::read_cloud(pcd, &compressed);
+    std::filesystem::remove(pcd);
+    std::printf("without liblzf: %s\n", c.to_string().c_str());
+    if (c.ok() || c.message().find("liblzf") == std::string::npos) return 1;
+  }
+#endif
 
   ppcr::RegistrationOptions options;
   options.radius = 0.1;  // metres: larger than the initial misalignment

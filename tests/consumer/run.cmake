@@ -36,6 +36,14 @@ foreach(mode package subdirectory)
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/${mode} -j2)
   run(${WORK_DIR}/${mode}/consumer)
 endforeach()
+# Vendored where liblzf is missing: ppcr_io builds without it and refuses a binary_compressed PCD
+# with a message naming liblzf (main.cpp, CONSUMER_NO_LZF).
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/subdirectory_no_lzf
+    -DCONSUMER_MODE=subdirectory -DCONSUMER_NO_LZF=ON -DCMAKE_DISABLE_FIND_PACKAGE_LZF=ON
+    -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args} -DCMAKE_BUILD_TYPE=Release
+    "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/subdirectory_no_lzf -j2)
+run(${WORK_DIR}/subdirectory_no_lzf/consumer)
 
 # A consumer compiled with another Eigen alignment than the library (include/ppcr/abi.hpp) must
 # fail to link, with an undefined reference in another ABI namespace than the library's, instead
