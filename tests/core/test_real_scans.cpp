@@ -255,6 +255,23 @@ TEST_CASE("lidar: back to the ground truth from a 10 degree / 0.5 m perturbation
 
 namespace {
 // Every coordinate times c, rounded to float32 when as_float (as a float file would hold it).
+// The bunny pair bun045 -> bun000 with its truth, and the benchmark protocol's options for it.
+struct BunnyPair {
+  PointCloud source, target;
+  Eigen::Isometry3d T_gt;
+  RegistrationOptions protocol_options() const {
+    RegistrationOptions o;
+    o.radius = 0.02;
+    o.source_voxel = o.target_voxel = 0.002;
+    return o;
+  }
+};
+
+BunnyPair load_bunny() {
+  return {load_cloud("bunny/bun045.ply"), load_cloud("bunny/bun000.ply"),
+          load_transform("bunny/bun045_gt.txt")};
+}
+
 PointCloud scaled(const PointCloud& cloud, double c, bool as_float = false) {
   PointCloud out(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -270,12 +287,11 @@ PointCloud scaled(const PointCloud& cloud, double c, bool as_float = false) {
 // is the same problem to rounding; stored as float32 (as most files are), each scale rounds the
 // coordinates differently, a relative change of ~6e-8.
 TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and float32", "[real]") {
-  const PointCloud target = load_cloud("bunny/bun000.ply");
-  const PointCloud source = load_cloud("bunny/bun045.ply");
-  const Eigen::Isometry3d T_gt = load_transform("bunny/bun045_gt.txt");
-  RegistrationOptions o;
-  o.radius = 0.02;
-  o.source_voxel = o.target_voxel = 0.002;
+  const BunnyPair bunny = load_bunny();
+  const PointCloud& target = bunny.target;
+  const PointCloud& source = bunny.source;
+  const Eigen::Isometry3d& T_gt = bunny.T_gt;
+  const RegistrationOptions o = bunny.protocol_options();
   const RegistrationResult ref = ppcr::align(source, target, o);
   INFO(describe(ref, T_gt));
   REQUIRE(ref.converged());
@@ -302,12 +318,11 @@ TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and floa
 // the Gaussian's to rounding. (At 1e100 it ended 1e-4 away and at 1e308 failed its verdict, when
 // the weights were formed as q^e from a rounded q and (nu + z_min) * sum overflowed.)
 TEST_CASE("bunny: Student-t at dof 1e12, 1e100 and 1e308 gives the Gaussian's pose", "[real]") {
-  const PointCloud target = load_cloud("bunny/bun000.ply");
-  const PointCloud source = load_cloud("bunny/bun045.ply");
-  const Eigen::Isometry3d T_gt = load_transform("bunny/bun045_gt.txt");
-  RegistrationOptions o;
-  o.radius = 0.02;
-  o.source_voxel = o.target_voxel = 0.002;
+  const BunnyPair bunny = load_bunny();
+  const PointCloud& target = bunny.target;
+  const PointCloud& source = bunny.source;
+  const Eigen::Isometry3d& T_gt = bunny.T_gt;
+  const RegistrationOptions o = bunny.protocol_options();
   RegistrationOptions gaussian = o;
   gaussian.expert.weight_model = ppcr::WeightModel::kGaussian;
   const RegistrationResult ref = ppcr::align(source, target, gaussian);
