@@ -635,7 +635,7 @@ PYBIND11_MODULE(ppcr, m) {
   m.doc() =
       "ppcr: Probabilistic Point Clouds Registration with automatic termination.\n"
       "register(source, target, radius=..., ...) aligns two (N, 3) numpy clouds;\n"
-      "read_point_cloud(path) reads PLY, PCD and XYZ/CSV/PTS files.";
+      "read_point_cloud(path) reads PLY, PCD, XYZ/CSV/PTS and KITTI .bin files.";
   m.attr("__version__") = PPCR_VERSION_STRING;
 
   py::class_<Result>(m, "Result", "What register() returns (ppcr::RegistrationResult).")
@@ -709,7 +709,7 @@ PYBIND11_MODULE(ppcr, m) {
         register_doc().c_str());
   m.def("read_point_cloud", &read_point_cloud, py::arg("path"),
         "read_point_cloud(path) -> (N, 3) float64 array\n\n"
-        "Reads a PLY, PCD or XYZ/CSV/PTS file with ppcr's readers (format by extension, else by\n"
+        "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file with ppcr's readers (format by extension, else by\n"
         "content). Points with a non-finite coordinate are dropped. Raises ValueError with the\n"
         "reader's message (it names the file and the line or byte) on any error.");
   m.def("default_options", &default_options,

@@ -17,7 +17,8 @@ namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 
-enum class Format { kAuto, kPly, kPcd, kXyz };
+/// kKittiBin: KITTI Velodyne scans (.bin), float32 x, y, z, intensity per point, little endian.
+enum class Format { kAuto, kPly, kPcd, kXyz, kKittiBin };
 
 /// What a reader saw, beyond the points it returned.
 struct ReadReport {
@@ -27,7 +28,7 @@ struct ReadReport {
   std::size_t non_finite_dropped = 0;  // points with a NaN/Inf coordinate, dropped and counted
 };
 
-/// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts,
+/// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts .bin,
 /// case-insensitive) and, when the extension is unknown, by the file's first bytes ("ply" line;
 /// "# .PCD", VERSION or FIELDS; numbers). Coordinates are read as double; points with a non-finite
 /// coordinate are dropped and counted in report->non_finite_dropped. A file holding zero finite
@@ -51,7 +52,10 @@ struct ReadReport {
 ///    ("nx,ny,nz,x,y,z"); one naming none of them keeps the first three; data lines must have as
 ///    many fields as it names. A decimal comma ("1,5 2,0 3,25"), a thousands separator
 ///    ("5,632.500 1 2") or ';'-separated fields are refused (kParseError with the line, the
-///    column and the text), never guessed.
+///    column and the text), never guessed. A line of more than 64 fields is refused.
+///  - KITTI .bin (by extension only: it has no header): records of float32 x y z intensity,
+///    little endian; a size that is not a whole number of 16-byte records is refused (kParseError
+///    with the size and the bytes left over). Intensity is not kept.
 Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report = nullptr,
                   Format format = Format::kAuto);
 
@@ -61,12 +65,13 @@ Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report
 Status read_cloud_from_buffer(const std::string& name, const char* data, std::size_t size,
                               Format format, PointCloud* cloud, ReadReport* report = nullptr);
 
-/// The format a path's extension names (.ply .pcd .xyz .txt .csv .pts, any case), else kAuto.
+/// The format a path's extension names (.ply .pcd .xyz .txt .csv .pts .bin, any case), else kAuto.
 Format format_from_extension(const std::string& path);
 
 /// Writes a cloud. Format::kAuto picks by extension. PLY is written binary little endian with
 /// double x y z, PCD binary with double x y z, XYZ as ASCII text with 17 significant digits, so
-/// that every round trip is exact. A cloud with a non-finite coordinate is refused
+/// that every round trip is exact; KITTI .bin as float32 x y z with intensity 0 (coordinates
+/// rounded to float32; one beyond its range is refused). A cloud with a non-finite coordinate is refused
 /// (kInvalidArgument: readers would drop the point); an empty cloud is written as a valid file
 /// with zero points. Write failures (cannot create, disk full...) give kIoError naming the path,
 /// and the partial file is removed.

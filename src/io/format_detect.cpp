@@ -39,6 +39,7 @@ Format format_from_extension_impl(const std::string& path) {
   if (ext == "ply") return Format::kPly;
   if (ext == "pcd") return Format::kPcd;
   if (ext == "xyz" || ext == "txt" || ext == "csv" || ext == "pts") return Format::kXyz;
+  if (ext == "bin") return Format::kKittiBin;
   return Format::kAuto;
 }
 

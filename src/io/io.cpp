@@ -37,13 +37,15 @@ Status read_buffer(const std::string& name, const char* data, std::size_t size, 
       return detail::read_pcd(in, cloud, report);
     case Format::kXyz:
       return detail::read_xyz(in, cloud, report);
+    case Format::kKittiBin:
+      return detail::read_kitti_bin(in, cloud, report);
     case Format::kAuto:
       break;
   }
   return Status(StatusCode::kParseError,
                 name +
                     ": unknown point cloud format: the extension is not .ply .pcd .xyz .txt "
-                    ".csv or .pts, and the first bytes '" +
+                    ".csv .pts or .bin (KITTI), and the first bytes '" +
                     detail::escape_for_message(std::string_view(data, size), 24) +
                     "' are neither a PLY nor a PCD header nor numbers");
 }
@@ -60,6 +62,8 @@ const char* to_string(Format format) {
       return "pcd";
     case Format::kXyz:
       return "xyz";
+    case Format::kKittiBin:
+      return "kitti_bin";
   }
   return "unknown";
 }
@@ -111,13 +115,15 @@ Status write_cloud(const std::string& path, const PointCloud& cloud, Format form
         return detail::write_pcd(path, cloud);
       case Format::kXyz:
         return detail::write_xyz(path, cloud);
+      case Format::kKittiBin:
+        return detail::write_kitti_bin(path, cloud);
       case Format::kAuto:
         break;
     }
     return Status(StatusCode::kInvalidArgument,
                   path +
                       ": cannot choose an output format from the extension (expected .ply, "
-                      ".pcd, .xyz, .txt, .csv or .pts), and none was given");
+                      ".pcd, .xyz, .txt, .csv, .pts or .bin), and none was given");
   });
 }
 

@@ -21,7 +21,8 @@ TEST_CASE("Format from extension is case-insensitive", "[io][format]") {
   }
   CHECK(format_from_extension("noext") == Format::kAuto);
   CHECK(format_from_extension("dir.ply/noext") == Format::kAuto);
-  CHECK(format_from_extension("c.bin") == Format::kAuto);
+  CHECK(format_from_extension("c.dat") == Format::kAuto);
+  CHECK(format_from_extension("c.bin") == Format::kKittiBin);
   CHECK(std::string(ppcr::io::to_string(Format::kPcd)) == "pcd");
 }
 
@@ -51,7 +52,7 @@ TEST_CASE("Format from content when the extension says nothing", "[io][format]")
     PointCloud cloud;
     ReadReport report;
     const ppcr::Status s = ppcr::io::read_cloud_from_buffer(
-        "data.bin", c.text.data(), c.text.size(), Format::kAuto, &cloud, &report);
+        "data.dat", c.text.data(), c.text.size(), Format::kAuto, &cloud, &report);
     INFO(c.text << " -> " << s.message());
     REQUIRE(s.ok());
     CHECK(report.format == c.format);

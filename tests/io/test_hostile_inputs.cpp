@@ -234,7 +234,7 @@ TEST_CASE("Malformed headers name the line and what was expected", "[io][hostile
 }
 
 TEST_CASE("Empty, missing, directory and garbage inputs", "[io][hostile]") {
-  for (const char* name : {"e.ply", "e.pcd", "e.xyz", "e.bin"}) {
+  for (const char* name : {"e.ply", "e.pcd", "e.xyz", "e.bin", "e.dat"}) {
     expect_error(name, "", StatusCode::kParseError, {"empty"});
   }
   io_test::TempDir dir;
@@ -258,10 +258,10 @@ TEST_CASE("Empty, missing, directory and garbage inputs", "[io][hostile]") {
   std::string garbage(200, '\0');
   for (char& c : garbage) c = static_cast<char>(rng() & 0xff);
   garbage[0] = '\x89';  // not a digit, not a PLY/PCD keyword
-  for (const char* name : {"g.ply", "g.pcd", "g.xyz", "g.bin"}) {
+  for (const char* name : {"g.ply", "g.pcd", "g.xyz", "g.bin", "g.dat"}) {
     expect_error(name, garbage, StatusCode::kParseError, {});
   }
-  expect_error("g.bin", garbage, StatusCode::kParseError, {"unknown point cloud format", "\\x89"});
+  expect_error("g.dat", garbage, StatusCode::kParseError, {"unknown point cloud format", "\\x89"});
   expect_error("words.dat", "hello world\nthis is text\n", StatusCode::kParseError,
                {"unknown point cloud format", "'hello world\\nthis is "});
 }

@@ -53,4 +53,15 @@ TEST_CASE("a folder lists its cloud files in natural order, files as given") {
   const ppcr::Status s = ppcr_odometry::list_scans({empty.string()}, &scans);
   CHECK(!s.ok());
   CHECK(s.message().find(empty.string()) != std::string::npos);
+
+  // A KITTI velodyne/ folder: 000000.bin, 000001.bin, ... (and its calibration text beside).
+  const std::filesystem::path kitti = dir / "velodyne";
+  std::filesystem::create_directories(kitti);
+  for (const char* name : {"000010.bin", "000002.bin", "000001.BIN", "README"}) {
+    std::ofstream(kitti / name) << "x";
+  }
+  REQUIRE(ppcr_odometry::list_scans({kitti.string()}, &scans).ok());
+  CHECK(scans == std::vector<std::string>{(kitti / "000001.BIN").string(),
+                                          (kitti / "000002.bin").string(),
+                                          (kitti / "000010.bin").string()});
 }

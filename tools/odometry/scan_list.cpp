@@ -26,8 +26,9 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
                         folder + ": cannot list the folder: " + error.message());
   }
   if (names.empty()) {
-    return ppcr::Status(ppcr::StatusCode::kIoError,
-                        folder + ": no cloud file (.ply .pcd .xyz .txt .csv .pts) in the folder");
+    return ppcr::Status(
+        ppcr::StatusCode::kIoError,
+        folder + ": no cloud file (.ply .pcd .xyz .txt .csv .pts .bin) in the folder");
   }
   std::sort(names.begin(), names.end(), natural_less);
   for (const std::string& name : names) {
