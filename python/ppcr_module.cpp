@@ -709,7 +709,8 @@ PYBIND11_MODULE(ppcr, m) {
         register_doc().c_str());
   m.def("read_point_cloud", &read_point_cloud, py::arg("path"),
         "read_point_cloud(path) -> (N, 3) float64 array\n\n"
-        "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file with ppcr's readers (format by extension, else by\n"
+        "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file with ppcr's readers (format by "
+        "extension, else by\n"
         "content). Points with a non-finite coordinate are dropped. Raises ValueError with the\n"
         "reader's message (it names the file and the line or byte) on any error.");
   m.def("default_options", &default_options,

@@ -41,7 +41,8 @@ struct Arguments {
 const char* kOutputGroup = "Input and output";
 
 void add_arguments(CLI::App& app, Arguments* a) {
-  app.add_option("SOURCE", a->source_path, "cloud to move (PLY, PCD, XYZ/CSV, KITTI .bin)")->required();
+  app.add_option("SOURCE", a->source_path, "cloud to move (PLY, PCD, XYZ/CSV, KITTI .bin)")
+      ->required();
   app.add_option("TARGET", a->target_path, "reference cloud")->required();
   ppcr_tools::add_registration_flags(app, &a->flags);
   app.add_option("--initial", a->initial_path, "initial guess: a 4x4 rigid transform (text file)")
@@ -84,7 +85,8 @@ bool stdout_failed() {
 int parse(int argc, char** argv, Arguments* a) {
   CLI::App app{
       "Registers SOURCE onto TARGET with Probabilistic Point Clouds Registration (PPCR) and prints "
-      "the 4x4 transform mapping SOURCE into TARGET's frame. Clouds: PLY, PCD, XYZ/CSV, KITTI .bin.",
+      "the 4x4 transform mapping SOURCE into TARGET's frame. Clouds: PLY, PCD, XYZ/CSV, KITTI "
+      ".bin.",
       "ppcr_cli"};
   app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING);
   add_arguments(app, a);
