@@ -127,6 +127,15 @@ ppcr::Status check_outputs(const Arguments& a) {
     std::fclose(f);
     if (!existed) std::remove(path->c_str());
   }
+  // The cloud's format comes from its extension: an unknown one is bad usage, refused now rather
+  // than after the registration.
+  if (!a.out_cloud.empty() &&
+      ppcr::io::format_from_extension(a.out_cloud) == ppcr::io::Format::kAuto) {
+    return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
+                        "--output-cloud " + a.out_cloud +
+                            ": unknown extension; expected .ply, .pcd, .xyz, .txt, .csv, .pts or "
+                            ".bin (KITTI)");
+  }
   return ppcr::Status::Ok();
 }
 
@@ -247,6 +256,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   s = check_outputs(a);
+  if (s.code() == ppcr::StatusCode::kInvalidArgument) {
+    std::fprintf(stderr, "ppcr_cli: error: %s\n", s.message().c_str());
+    return 2;
+  }
   if (!s.ok()) return fail(s.message());
   Inputs in;
   s = read_inputs(a, &in);

@@ -122,6 +122,18 @@ TEST_CASE("ppcr_cli: an output path that cannot be written fails before the regi
   }
 }
 
+TEST_CASE("ppcr_cli: an output cloud of unknown format is refused before the registration",
+          "[cli]") {
+  write_pair();
+  const std::string path = kDir + "/aligned.las";
+  const Run r = run_cli(pair_args() + " --verbose --output-cloud '" + path + "'");
+  INFO(r.err);
+  CHECK(r.status == 2);
+  CHECK(contains(r.err, "--output-cloud " + path + ": unknown extension"));
+  CHECK_FALSE(contains(r.err, "iter "));   // no iteration ran
+  CHECK(access(path.c_str(), F_OK) != 0);  // and no file left
+}
+
 TEST_CASE("ppcr_cli: empty, negative and oversized values are refused with the flag", "[cli]") {
   write_pair();
   const std::pair<const char*, const char*> cases[] = {
