@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -600,7 +601,21 @@ py::array_t<double> read_point_cloud(const py::handle& path) {
     py::gil_scoped_release release;
     s = ppcr::io::read_cloud(text, &cloud);
   }
-  if (!s.ok()) value_error(s.message());
+  if (s.code() == ppcr::StatusCode::kIoError) {
+    // The file could not be read: Python's OSError family, as open() raises it.
+    std::error_code ec;
+    PyObject* type = PyExc_OSError;
+    if (!std::filesystem::exists(text, ec)) {
+      type = PyExc_FileNotFoundError;
+    } else if (std::filesystem::is_directory(text, ec)) {
+      type = PyExc_IsADirectoryError;
+    } else if (s.message().find("Permission denied") != std::string::npos) {
+      type = PyExc_PermissionError;
+    }
+    PyErr_SetString(type, s.message().c_str());
+    throw py::error_already_set();
+  }
+  if (!s.ok()) value_error(s.message());  // the content is malformed, or holds no point
   return to_array(cloud);
 }
 
@@ -711,8 +726,10 @@ PYBIND11_MODULE(ppcr, m) {
         "read_point_cloud(path) -> (N, 3) float64 array\n\n"
         "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file with ppcr's readers (format by "
         "extension, else by\n"
-        "content). Points with a non-finite coordinate are dropped. Raises ValueError with the\n"
-        "reader's message (it names the file and the line or byte) on any error.");
+        "content). Points with a non-finite coordinate are dropped. A file that cannot be read\n"
+        "raises OSError (FileNotFoundError, IsADirectoryError, PermissionError...), malformed\n"
+        "content or no finite point ValueError, each with the reader's message (it names the\n"
+        "file and the line or byte).");
   m.def("default_options", &default_options,
         "The options of register() with their defaults (those of ppcr::RegistrationOptions).");
 }

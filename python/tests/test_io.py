@@ -1,5 +1,6 @@
 """ppcr.read_point_cloud: every fixture of ../shared/data/io against its MANIFEST.json (count,
-first point, centroid), and the readers' errors as ValueError."""
+first point, centroid), and the readers' errors: OSError for a file that cannot be read,
+ValueError for its content."""
 import json
 import pathlib
 
@@ -43,9 +44,16 @@ def test_round_trip_of_a_text_cloud(tmp_path):
 
 def test_reader_errors(tmp_path):
     missing = tmp_path / "none.ply"
-    with pytest.raises(ValueError) as error:
+    with pytest.raises(FileNotFoundError) as error:
         ppcr.read_point_cloud(missing)
     assert str(error.value).startswith(f"{missing}: cannot open"), error.value
+    with pytest.raises(IsADirectoryError) as error:
+        ppcr.read_point_cloud(tmp_path)
+    assert str(tmp_path) in str(error.value), error.value
+    (tmp_path / "empty.ply").write_bytes(b"")
+    with pytest.raises(ValueError) as error:
+        ppcr.read_point_cloud(tmp_path / "empty.ply")
+    assert "empty" in str(error.value), error.value
     bad = tmp_path / "bad.xyz"
     bad.write_text("1 2 3\n4 5 x\n")
     with pytest.raises(ValueError) as error:
