@@ -591,33 +591,123 @@ Result register_clouds(const py::handle& source, const py::handle& target,
   return to_result(r, time_ms);
 }
 
-py::array_t<double> read_point_cloud(const py::handle& path) {
+// A str, bytes or os.PathLike path as the C++ string the readers take.
+std::string path_text(const py::handle& path) {
   const py::object fs_path = py::module_::import("os").attr("fspath")(path);
-  const std::string text = py::isinstance<py::bytes>(fs_path) ? std::string(py::bytes(fs_path))
-                                                              : std::string(py::str(fs_path));
+  return py::isinstance<py::bytes>(fs_path) ? std::string(py::bytes(fs_path))
+                                            : std::string(py::str(fs_path));
+}
+
+// A failed file Status as Python raises it: OSError's family for a file that cannot be read or
+// written (as open() would), ValueError for its content or for a refused value.
+[[noreturn]] void raise_file_error(const ppcr::Status& s, const std::string& path) {
+  if (s.code() == ppcr::StatusCode::kIoError) {
+    std::error_code ec;
+    PyObject* type = PyExc_OSError;
+    if (s.message().find("Permission denied") != std::string::npos) {
+      type = PyExc_PermissionError;
+    } else if (std::filesystem::is_directory(path, ec)) {
+      type = PyExc_IsADirectoryError;
+    } else if (!std::filesystem::exists(path, ec)) {
+      type = PyExc_FileNotFoundError;
+    }
+    PyErr_SetString(type, s.message().c_str());
+    throw py::error_already_set();
+  }
+  value_error(s.message());
+}
+
+py::array_t<double> read_point_cloud(const py::handle& path) {
+  const std::string text = path_text(path);
   ppcr::PointCloud cloud;
   ppcr::Status s;
   {
     py::gil_scoped_release release;
     s = ppcr::io::read_cloud(text, &cloud);
   }
-  if (s.code() == ppcr::StatusCode::kIoError) {
-    // The file could not be read: Python's OSError family, as open() raises it.
-    std::error_code ec;
-    PyObject* type = PyExc_OSError;
-    if (!std::filesystem::exists(text, ec)) {
-      type = PyExc_FileNotFoundError;
-    } else if (std::filesystem::is_directory(text, ec)) {
-      type = PyExc_IsADirectoryError;
-    } else if (s.message().find("Permission denied") != std::string::npos) {
-      type = PyExc_PermissionError;
-    }
-    PyErr_SetString(type, s.message().c_str());
-    throw py::error_already_set();
-  }
-  if (!s.ok()) value_error(s.message());  // the content is malformed, or holds no point
+  if (!s.ok()) raise_file_error(s, text);
   return to_array(cloud);
 }
+
+void write_point_cloud(const py::handle& path, const py::handle& points) {
+  const std::string text = path_text(path);
+  const ppcr::PointCloud cloud = to_cloud(points, "points");
+  ppcr::Status s;
+  {
+    py::gil_scoped_release release;
+    s = ppcr::io::write_cloud(text, cloud);
+  }
+  if (!s.ok()) raise_file_error(s, text);
+}
+
+py::array_t<double> voxel_downsample(const py::handle& points, double leaf) {
+  const ppcr::PointCloud cloud = to_cloud(points, "points");
+  ppcr::PointCloud out;
+  ppcr::Status s;
+  {
+    py::gil_scoped_release release;
+    s = ppcr::voxel_downsample(cloud, leaf, &out);
+  }
+  if (!s.ok()) value_error(s.message());
+  return to_array(out);
+}
+
+py::dict evaluate(const py::handle& source, const py::handle& T_est, const py::handle& T_gt) {
+  const ppcr::PointCloud cloud = to_cloud(source, "source");
+  const ppcr::PoseErrors e = ppcr::evaluate(cloud, to_transform(T_est), to_transform(T_gt));
+  py::dict d;
+  d["rotation_error_deg"] = e.rotation_error_deg;
+  d["translation_error"] = e.translation_error;
+  d["benchmark_error"] = e.benchmark_error;
+  d["mse"] = e.mse;
+  return d;
+}
+
+// ppcr.Registration: one target, prepared once, for many sources (a loop of scans). The same
+// options and results as register(); set_target_to_source() makes the last source the target.
+class PyRegistration {
+ public:
+  explicit PyRegistration(const py::kwargs& kwargs) : registration_(to_options(kwargs)) {}
+
+  void set_target(const py::handle& target) {
+    const ppcr::PointCloud cloud = to_cloud(target, "target");
+    ppcr::Status s;
+    {
+      py::gil_scoped_release release;
+      s = registration_.set_target(cloud);
+    }
+    if (!s.ok()) value_error(s.message());
+  }
+
+  Result align(const py::handle& source, const py::handle& initial) {
+    ppcr::PointCloud cloud = to_cloud(source, "source");
+    const Eigen::Isometry3d T_initial =
+        initial.is_none() ? Eigen::Isometry3d::Identity() : to_transform(initial);
+    ppcr::RegistrationResult r;
+    double time_ms = 0.0;
+    {
+      py::gil_scoped_release release;
+      const auto start = std::chrono::steady_clock::now();
+      r = registration_.align(std::move(cloud), T_initial);
+      time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count();
+    }
+    if (!r.status.ok()) value_error(r.status.message());
+    return to_result(r, time_ms);
+  }
+
+  void set_target_to_source() {
+    ppcr::Status s;
+    {
+      py::gil_scoped_release release;
+      s = registration_.set_target_to_source();
+    }
+    if (!s.ok()) value_error(s.message());
+  }
+
+ private:
+  ppcr::Registration registration_;
+};
 
 std::string register_doc() {
   std::string doc =
@@ -730,6 +820,34 @@ PYBIND11_MODULE(ppcr, m) {
         "raises OSError (FileNotFoundError, IsADirectoryError, PermissionError...), malformed\n"
         "content or no finite point ValueError, each with the reader's message (it names the\n"
         "file and the line or byte).");
+  m.def("write_point_cloud", &write_point_cloud, py::arg("path"), py::arg("points"),
+        "write_point_cloud(path, points)\n\n"
+        "Writes an (N, 3) array with ppcr's writers, the format by extension (.ply and .pcd\n"
+        "binary double, .xyz/.txt/.csv/.pts text with 17 digits: exact round trips; .bin KITTI\n"
+        "float32). OSError when the file cannot be written, ValueError for the points or an\n"
+        "unknown extension.");
+  m.def("voxel_downsample", &voxel_downsample, py::arg("points"), py::arg("leaf"),
+        "voxel_downsample(points, leaf) -> (M, 3) float64 array\n\n"
+        "One centroid per occupied voxel of edge `leaf` (cloud units), as register()'s\n"
+        "source_voxel and target_voxel filter.");
+  m.def("evaluate", &evaluate, py::arg("source"), py::arg("T_est"), py::arg("T_gt"),
+        "evaluate(source, T_est, T_gt) -> dict\n\n"
+        "Errors of an estimated pose against a known one, on the registered source cloud:\n"
+        "rotation_error_deg, translation_error (cloud units), benchmark_error, mse.");
+  py::class_<PyRegistration>(m, "Registration",
+                             "Registration(**options): one target prepared once, many sources "
+                             "aligned onto it.\n"
+                             "The options and the Result are register()'s. The GIL is released "
+                             "while it works.")
+      .def(py::init<const py::kwargs&>())
+      .def("set_target", &PyRegistration::set_target, py::arg("target"),
+           "Filters, indexes and fits the normals of the target, once.")
+      .def("align", &PyRegistration::align, py::arg("source"), py::kw_only(),
+           py::arg("initial") = py::none(),
+           "align(source, *, initial=None) -> Result: source onto the target set last.")
+      .def("set_target_to_source", &PyRegistration::set_target_to_source,
+           "Makes the last aligned source the target, without preparing it again (scan to "
+           "scan).");
   m.def("default_options", &default_options,
         "The options of register() with their defaults (those of ppcr::RegistrationOptions).");
 }
