@@ -13,7 +13,7 @@ python_flags=$("$root/python/cmake_flags.sh")
 # shellcheck disable=SC2086
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DPPCR_BUILD_TESTS=OFF $python_flags \
   > /dev/null
-targets=(ppcr_cli ppcr_synth)
+targets=(ppcr_cli ppcr_synth ppcr_odometry)
 [[ -n $python_flags ]] && targets+=(ppcr_python)
 cmake --build build/release -j "${PPCR_JOBS:-2}" --target "${targets[@]}"
 bin=build/release/tools

@@ -31,22 +31,36 @@ TEST_CASE("the order is strict: equal values differ by leading zeros, then bytes
         std::vector<std::string>{"s_1", "s_001", "s_2", "s_02", "s_3", "s_10", "s_20", "t"});
 }
 
-TEST_CASE("a folder lists its cloud files in natural order, files as given") {
+TEST_CASE("a folder lists the scans of its most common format in natural order, files as given") {
   const std::filesystem::path dir =
       std::filesystem::path(PPCR_SEQUENCE_TEST_DIR) / "natural_order_folder";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  for (const char* name :
-       {"scan_10.ply", "scan_2.PCD", "scan_1.ply", "notes.md", ".hidden.ply", "scan_11.xyz"}) {
+  for (const char* name : {"scan_10.ply", "scan_2.PLY", "scan_1.ply", "notes.md", ".hidden.ply",
+                           "truth.txt", "scan_11.pcd"}) {
     std::ofstream(dir / name) << "x";
   }
   std::filesystem::create_directories(dir / "sub.ply");  // a folder, not a file
-  std::vector<std::string> scans;
-  REQUIRE(ppcr_odometry::list_scans({dir.string(), "extra.pcd"}, &scans).ok());
-  const std::vector<std::string> expected{
-      (dir / "scan_1.ply").string(), (dir / "scan_2.PCD").string(), (dir / "scan_10.ply").string(),
-      (dir / "scan_11.xyz").string(), "extra.pcd"};
+  std::vector<std::string> scans, skipped;
+  REQUIRE(ppcr_odometry::list_scans({dir.string(), "extra.pcd"}, &scans, &skipped).ok());
+  const std::vector<std::string> expected{(dir / "scan_1.ply").string(),
+                                          (dir / "scan_2.PLY").string(),
+                                          (dir / "scan_10.ply").string(), "extra.pcd"};
   CHECK(scans == expected);
+  // The other cloud formats are skipped, in one line naming them.
+  REQUIRE(skipped.size() == 1u);
+  CHECK(skipped[0] == dir.string() + ": 2 file(s) not .ply scans, skipped: scan_11.pcd truth.txt");
+
+  // A synthetic sequence's folder: the .xyz scans and, beside them, its ground truth as .txt.
+  const std::filesystem::path xyz = dir / "xyz";
+  std::filesystem::create_directories(xyz);
+  for (const char* name : {"scan_0.xyz", "scan_1.xyz", "scan_2.xyz", "gt_kitti.txt", "gt.txt"}) {
+    std::ofstream(xyz / name) << "x";
+  }
+  REQUIRE(ppcr_odometry::list_scans({xyz.string()}, &scans).ok());
+  CHECK(scans == std::vector<std::string>{(xyz / "scan_0.xyz").string(),
+                                          (xyz / "scan_1.xyz").string(),
+                                          (xyz / "scan_2.xyz").string()});
 
   const std::filesystem::path empty = dir / "empty";
   std::filesystem::create_directories(empty);

@@ -28,6 +28,7 @@
 #include "odometry/scan_list.hpp"
 #include "odometry/trajectory_format.hpp"
 #include "odometry/trajectory_metrics.hpp"
+#include "ppcr/version.hpp"
 
 namespace {
 
@@ -169,9 +170,10 @@ ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions&
 }
 
 int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
-  std::vector<std::string> scans;
-  ppcr::Status s = ppcr_odometry::list_scans(a.inputs, &scans);
+  std::vector<std::string> scans, skipped;
+  ppcr::Status s = ppcr_odometry::list_scans(a.inputs, &scans, &skipped);
   if (!s.ok()) return fail(1, s.message());
+  for (const std::string& line : skipped) std::fprintf(stderr, "ppcr_odometry: %s\n", line.c_str());
   if (scans.size() < 2)
     return fail(2, "a sequence needs at least 2 scans; got " + std::to_string(scans.size()));
   ppcr_odometry::OdometrySettings settings;
@@ -219,6 +221,7 @@ int main(int argc, char** argv) {
       "local map, from a constant-velocity guess), or evaluates a trajectory (--evaluate).",
       "ppcr_odometry"};
   add_arguments(app, &a);
+  app.set_version_flag("--version", std::string("ppcr_odometry ") + PPCR_VERSION_STRING);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help

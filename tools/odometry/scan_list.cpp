@@ -2,7 +2,9 @@
 #include "odometry/scan_list.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
+#include <map>
 #include <system_error>
 
 #include "odometry/natural_order.hpp"
@@ -11,7 +13,31 @@
 namespace ppcr_odometry {
 namespace {
 
-ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* scans) {
+// The extension of a file name, lower case ("scan.PLY" -> "ply").
+std::string extension(const std::string& name) {
+  std::string ext = std::filesystem::path(name).extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// The folder's most common extension among `names`, on a tie the first alphabetically; the files
+// of other extensions move to *others.
+void keep_one_format(std::vector<std::string>* names, std::vector<std::string>* others) {
+  std::map<std::string, int> count;
+  for (const std::string& name : *names) ++count[extension(name)];
+  std::string chosen;
+  int most = 0;
+  for (const auto& [ext, n] : count) {
+    if (n > most) chosen = ext, most = n;
+  }
+  std::vector<std::string> kept;
+  for (std::string& name : *names) (extension(name) == chosen ? kept : *others).push_back(name);
+  *names = std::move(kept);
+}
+
+ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* scans,
+                         std::vector<std::string>* skipped) {
   std::error_code error;
   std::vector<std::string> names;
   for (std::filesystem::directory_iterator it(folder, error), end; !error && it != end;
@@ -31,20 +57,30 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
         folder + ": no cloud file (.ply .pcd .xyz .txt .csv .pts .bin) in the folder");
   }
   std::sort(names.begin(), names.end(), natural_less);
+  std::vector<std::string> others;
+  keep_one_format(&names, &others);
   for (const std::string& name : names) {
     scans->push_back((std::filesystem::path(folder) / name).string());
+  }
+  if (skipped != nullptr && !others.empty()) {
+    std::string line = folder + ": " + std::to_string(others.size()) + " file(s) not ." +
+                       extension(names.front()) + " scans, skipped:";
+    for (const std::string& name : others) line += " " + name;
+    skipped->push_back(line);
   }
   return ppcr::Status::Ok();
 }
 
 }  // namespace
 
-ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std::string>* scans) {
+ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std::string>* scans,
+                        std::vector<std::string>* skipped) {
   scans->clear();
+  if (skipped != nullptr) skipped->clear();
   for (const std::string& input : inputs) {
     std::error_code error;
     if (std::filesystem::is_directory(input, error)) {
-      const ppcr::Status s = list_folder(input, scans);
+      const ppcr::Status s = list_folder(input, scans, skipped);
       if (!s.ok()) return s;
     } else {
       scans->push_back(input);

@@ -9,10 +9,14 @@
 
 namespace ppcr_odometry {
 
-/// Each input that is a folder is replaced by its regular files whose extension names a cloud
-/// format (.ply .pcd .xyz .txt .csv .pts .bin, any case; hidden files skipped), sorted by
-/// natural_less on the file name; any other input is kept as given (it is read, and its errors
-/// reported, when its turn comes). Fails when a folder cannot be listed or holds no cloud file.
-ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std::string>* scans);
+/// Each input that is a folder is replaced by its scans: the regular files of its most common cloud
+/// extension (.ply .pcd .xyz .txt .csv .pts .bin, any case; on a tie, the first in alphabetical
+/// order; hidden files skipped), sorted by natural_less on the file name. A folder holds the scans
+/// of one format: its other files (a ground truth .txt beside .xyz scans, a times.txt beside .bin
+/// frames) are never read as scans; when `skipped` is given, one line per folder that had any
+/// names them. Any other input is kept as given (it is read, and its errors reported, when its turn
+/// comes). Fails when a folder cannot be listed or holds no cloud file.
+ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std::string>* scans,
+                        std::vector<std::string>* skipped = nullptr);
 
 }  // namespace ppcr_odometry
