@@ -28,22 +28,19 @@ endif()
 # The libraries need Eigen alone: a consumer in which any find_package(nanoflann) fails (a
 # REQUIRED one is an error when disabled) configures and builds both ways.
 set(nanoflann_args -DCMAKE_DISABLE_FIND_PACKAGE_nanoflann=ON)
+# The vendored consumer is also one where liblzf is missing (find_package(LZF) disabled): ppcr_io
+# builds without it and refuses a binary_compressed PCD with a message naming liblzf (main.cpp,
+# CONSUMER_NO_LZF); the installed package is built with it.
+set(subdirectory_args -DCONSUMER_NO_LZF=ON -DCMAKE_DISABLE_FIND_PACKAGE_LZF=ON)
+set(package_args "")
 foreach(mode package subdirectory)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${mode}
-      -DCONSUMER_MODE=${mode} -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args}
+      -DCONSUMER_MODE=${mode} -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args} ${${mode}_args}
       -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
       "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/${mode} -j2)
   run(${WORK_DIR}/${mode}/consumer)
 endforeach()
-# Vendored where liblzf is missing: ppcr_io builds without it and refuses a binary_compressed PCD
-# with a message naming liblzf (main.cpp, CONSUMER_NO_LZF).
-run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/subdirectory_no_lzf
-    -DCONSUMER_MODE=subdirectory -DCONSUMER_NO_LZF=ON -DCMAKE_DISABLE_FIND_PACKAGE_LZF=ON
-    -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args} -DCMAKE_BUILD_TYPE=Release
-    "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
-run(${CMAKE_COMMAND} --build ${WORK_DIR}/subdirectory_no_lzf -j2)
-run(${WORK_DIR}/subdirectory_no_lzf/consumer)
 
 # A consumer compiled with another Eigen alignment than the library (include/ppcr/abi.hpp) must
 # fail to link, with an undefined reference in another ABI namespace than the library's, instead
