@@ -318,22 +318,18 @@ TEST_CASE("bunny: the same rotation in any units, 1e-12 to 1e12, double and floa
 // the Gaussian's to rounding. (At 1e100 it ended 1e-4 away and at 1e308 failed its verdict, when
 // the weights were formed as q^e from a rounded q and (nu + z_min) * sum overflowed.)
 TEST_CASE("bunny: Student-t at dof 1e12, 1e100 and 1e308 gives the Gaussian's pose", "[real]") {
-  const BunnyPair bunny = load_bunny();
-  const PointCloud& target = bunny.target;
-  const PointCloud& source = bunny.source;
-  const Eigen::Isometry3d& T_gt = bunny.T_gt;
-  const RegistrationOptions o = bunny.protocol_options();
-  RegistrationOptions gaussian = o;
+  const BunnyPair b = load_bunny();
+  RegistrationOptions gaussian = b.protocol_options();
   gaussian.expert.weight_model = ppcr::WeightModel::kGaussian;
-  const RegistrationResult ref = ppcr::align(source, target, gaussian);
-  INFO("Gaussian: " << describe(ref, T_gt));
+  const RegistrationResult ref = ppcr::align(b.source, b.target, gaussian);
+  INFO("Gaussian: " << describe(ref, b.T_gt));
   REQUIRE(ref.converged());
   REQUIRE(ref.quality == ppcr::Quality::kGood);
   for (double dof : {1e12, 1e100, 1e308, std::numeric_limits<double>::max()}) {
-    RegistrationOptions t = o;
+    RegistrationOptions t = b.protocol_options();
     t.dof = dof;
-    const RegistrationResult r = ppcr::align(source, target, t);
-    INFO("dof " << dof << ": " << describe(r, T_gt));
+    const RegistrationResult r = ppcr::align(b.source, b.target, t);
+    INFO("dof " << dof << ": " << describe(r, b.T_gt));
     REQUIRE(r.converged());
     CHECK(r.quality == ppcr::Quality::kGood);
     CHECK((r.T_target_source.matrix() - ref.T_target_source.matrix()).cwiseAbs().maxCoeff() < 1e-9);
