@@ -2,7 +2,6 @@
 // x, y, z, intensity, little endian (the layout of the KITTI odometry benchmark's velodyne/*.bin
 // and of the tools that write it). The file size must be a whole number of records. Intensity is
 // not kept on reading and is written as 0. Writing rounds each coordinate to float32.
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -10,6 +9,7 @@
 
 #include "file_access.hpp"
 #include "formats.hpp"
+#include "scalar_type.hpp"
 #include "writer_common.hpp"
 
 namespace ppcr {
@@ -19,15 +19,6 @@ namespace detail {
 namespace {
 
 constexpr std::size_t kRecordBytes = 16;  // float32 x, y, z, intensity
-
-float load_f32_le(const unsigned char* p) {
-  const std::uint32_t bits =
-      static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
-      static_cast<std::uint32_t>(p[2]) << 16 | static_cast<std::uint32_t>(p[3]) << 24;
-  float value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
 
 void store_f32_le(float value, unsigned char* p) {
   std::uint32_t bits;
@@ -51,9 +42,10 @@ Status read_kitti_bin(const Input& in, PointCloud* cloud, ReadReport* report) {
   const std::size_t n = in.size / kRecordBytes;
   cloud->reserve(n);
   PointSink sink(cloud);
+  const ScalarLoader load = scalar_loader(ScalarType::kFloat32, ByteOrder::kLittleEndian);
   const unsigned char* record = in.bytes();
   for (std::size_t i = 0; i < n; ++i, record += kRecordBytes) {
-    sink.add(load_f32_le(record), load_f32_le(record + 4), load_f32_le(record + 8));
+    sink.add(load(record), load(record + 4), load(record + 8));
   }
   return finish_read(in, n, sink, *cloud, report);
 }

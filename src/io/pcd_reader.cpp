@@ -197,25 +197,19 @@ std::uint32_t load_u32_le(const unsigned char* p) {
 // a larger claimed ratio cannot be genuine and is refused before allocating.
 constexpr std::uint64_t kMaxLzfExpansion = 100;
 
-// lzf_decompress where this build has liblzf; 0 bytes otherwise (read_binary_compressed refuses
-// the file before).
-unsigned int decompress_lzf(const unsigned char* data, unsigned int size, unsigned char* out,
-                            unsigned int out_size) {
-#if defined(PPCR_IO_HAVE_LZF)
-  return lzf_decompress(data, size, out, out_size);
-#else
-  (void)data;
-  (void)size;
-  (void)out;
-  (void)out_size;
-  return 0;
-#endif
-}
-
+// LZF decompression where this build has liblzf; without it read_binary_compressed refuses the
+// file before any call.
 #if defined(PPCR_IO_HAVE_LZF)
 constexpr bool kHaveLzf = true;
+unsigned int decompress_lzf(const unsigned char* data, unsigned int size, unsigned char* out,
+                            unsigned int out_size) {
+  return lzf_decompress(data, size, out, out_size);
+}
 #else
 constexpr bool kHaveLzf = false;
+unsigned int decompress_lzf(const unsigned char*, unsigned int, unsigned char*, unsigned int) {
+  return 0;
+}
 #endif
 
 Status read_binary_compressed(const Input& in, const PcdHeader& h, PointSink* sink,
