@@ -12,18 +12,18 @@
 #include <random>
 #include <vector>
 
-#include "association.hpp"
-#include "kdtree.hpp"
-#include "lm_solver.hpp"
-#include "neighbour_cache.hpp"
-#include "normal_equations.hpp"
-#include "pair_normals.hpp"
-#include "parallel.hpp"
+#include "association/association_table.hpp"
+#include "association/kdtree.hpp"
+#include "association/neighbour_cache.hpp"
+#include "association/spatial_order.hpp"
+#include "common/parallel.hpp"
+#include "model/e_step.hpp"
+#include "model/normal_equations.hpp"
+#include "model/pair_normals.hpp"
 #include "ppcr/registration.hpp"
 #include "ppcr/se3.hpp"
-#include "spatial_order.hpp"
-#include "target_normals.hpp"
-#include "weights.hpp"
+#include "preparation/pca_normals.hpp"
+#include "solver/lm_solver.hpp"
 
 namespace {
 

@@ -5,7 +5,7 @@ final cost, the relative cost drop, the MSE w.r.t. the previous iteration, the M
 ground truth (when the trace has it), and the discrete derivatives of the last three.
 
 Vertical lines mark where the run stopped (its last row) and where each criterion, with the
-default settings, would have stopped on this trajectory (the monitor of src/termination.cpp
+default settings, would have stopped on this trajectory (the monitor of src/registration/termination.cpp
 replayed on the trace; a criterion that would fire after the last row is not drawn), and the
 oracle's ideal stop (tools/termination_study.py: oracle_stop). Grey bands: iterations in which
 the E-step scale was still settling (coarse phase or shrinking at its limit), when the

@@ -12,7 +12,7 @@ tables):
             into docs/TERMINATION.md between <!-- BEGIN GENERATED: name --> / <!-- END ... -->.
 
 Also a small library used by plot_trace.py: read_trace(), settling_mask(), simulate_stop(),
-oracle_stop(). The criteria rules are those of src/termination.cpp (termination.hpp documents
+oracle_stop(). The criteria rules are those of src/registration/termination.cpp (termination.hpp documents
 them); the oracle is defined in oracle_stop().
 """
 
@@ -88,8 +88,8 @@ def has_ground_truth(trace):
 
 
 def settling_mask(trace, scale_mode="auto", shrink=None):
-    """Which iterations the monitor saw as scale_settling (src/registration.cpp,
-    src/scale_schedule.cpp), reconstructed from the trace's scale column:
+    """Which iterations the monitor saw as scale_settling (src/registration/registration.cpp,
+    src/registration/scale_schedule.cpp), reconstructed from the trace's scale column:
       EM: iteration t settles while its scale is still the coarse one (every iteration up to the
           last one run at the initial scale), or when its scale is exactly sqrt(shrink) times the
           previous one (the shrink limit was hit by the EM estimate; shrink = --scale-shrink,
@@ -125,7 +125,7 @@ DEFAULT_MOTION_GUARD = 0.03
 
 def simulate_stop(trace, spec, settling, radius=1.0):
     """The iteration at which a criterion set would have stopped on this trajectory (the monitor
-    of src/termination.cpp, replayed), or None if it would not have stopped within the trace.
+    of src/registration/termination.cpp, replayed), or None if it would not have stopped within the trace.
     spec keys: criteria (set of 'fixed','cost-drop','mse-prev','successful-steps'),
     fixed (iterations), max_iterations, cd_threshold, cd_patience, motion_guard (fraction of
     radius; default DEFAULT_MOTION_GUARD, the library's; 0 = the paper's rule), mse_ratio, mse_patience, steps_threshold, steps_patience.

@@ -25,9 +25,6 @@ if(EXISTS ${WORK_DIR}/prefix/include/ppcr/synthetic.hpp OR
    NOT EXISTS ${WORK_DIR}/prefix/include/ppcr/io.hpp)
   message(FATAL_ERROR "installed headers: synthetic.hpp (not installed library) or no io.hpp")
 endif()
-# The libraries need Eigen alone: a consumer in which any find_package(nanoflann) fails (a
-# REQUIRED one is an error when disabled) configures and builds both ways.
-set(nanoflann_args -DCMAKE_DISABLE_FIND_PACKAGE_nanoflann=ON)
 # The vendored consumer is also one where liblzf is missing (find_package(LZF) disabled): ppcr_io
 # builds without it and refuses a binary_compressed PCD with a message naming liblzf (main.cpp,
 # CONSUMER_NO_LZF); the installed package is built with it.
@@ -35,7 +32,7 @@ set(subdirectory_args -DCONSUMER_NO_LZF=ON -DCMAKE_DISABLE_FIND_PACKAGE_LZF=ON)
 set(package_args "")
 foreach(mode package subdirectory)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${mode}
-      -DCONSUMER_MODE=${mode} -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${nanoflann_args} ${${mode}_args}
+      -DCONSUMER_MODE=${mode} -DPPCR_SOURCE_DIR=${SOURCE_DIR} ${${mode}_args}
       -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
       "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}" "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}")
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/${mode} -j2)
@@ -84,7 +81,7 @@ set(unresolved "undefined reference to|undefined symbol|Undefined symbols|unreso
 foreach(other_flag ${other_flags})
   string(MAKE_C_IDENTIFIER "mismatch${other_flag}" dir)
   run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/${dir}
-      -DCONSUMER_MODE=package ${nanoflann_args} -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
+      -DCONSUMER_MODE=package -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix
       -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
       "-DCMAKE_CXX_FLAGS=${CXX_FLAGS} ${other_flag}")
   execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/${dir} RESULT_VARIABLE rc

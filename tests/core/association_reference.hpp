@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
 #include "ppcr/types.hpp"
 
 namespace core_test {

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "parallel.hpp"
+#include "common/parallel.hpp"
 #include "ppcr/types.hpp"
 
 namespace core_test {

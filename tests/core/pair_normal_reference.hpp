@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
 
 namespace core_test {
 

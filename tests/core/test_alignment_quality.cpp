@@ -7,11 +7,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "alignment_quality.hpp"
+#include "association/kdtree.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "normal_equations.hpp"
-#include "target_normals.hpp"
+#include "model/normal_equations.hpp"
+#include "preparation/pca_normals.hpp"
+#include "quality/alignment_quality.hpp"
 
 using ppcr::PointCloud;
 

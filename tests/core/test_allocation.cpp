@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "core_test_util.hpp"
-#include "pose_acceleration.hpp"
 #include "ppcr/registration.hpp"
+#include "registration/pose_acceleration.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};

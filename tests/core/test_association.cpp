@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
+#include "association/kdtree.hpp"
 #include "association_reference.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
 
 using core_test::Rng;
 using core_test::table_mismatch;

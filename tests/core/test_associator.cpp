@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "association/associator.hpp"
+#include "association/kdtree.hpp"
 #include "association_reference.hpp"
-#include "associator.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;

@@ -9,10 +9,10 @@
 #include <numeric>
 #include <vector>
 
-#include "boundary.hpp"
+#include "association/kdtree.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "target_normals.hpp"
+#include "preparation/boundary.hpp"
+#include "preparation/pca_normals.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "buffer.hpp"
+#include "common/buffer.hpp"
 
 using ppcr::detail::Buffer;
 

@@ -1,16 +1,18 @@
-// Tests of detail::KdTree::radius_knn against a brute-force scan of every point, and against
-// nanoflann's own search (the flat search in kdtree.cpp must return exactly what it returns).
+// Tests of detail::KdTree (nanoflann's tree behind our interface, its points in leaf order):
+// radius_knn against a brute-force scan of every point and against nanoflann's tree over the
+// cloud as given.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstring>
+#include <nanoflann.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "association/kdtree.hpp"
+#include "association/radius_knn_result.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "nanoflann_reference.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -22,6 +24,27 @@ struct Hit {
   double dist_sq;
   std::uint32_t index;
 };
+
+// nanoflann's tree over a cloud as given (no permutation), for the differential test below.
+struct CloudAdaptor {
+  const PointCloud* points = nullptr;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(std::uint32_t i, std::size_t axis) const { return (*points)[i][axis]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using ReferenceTree = nanoflann::KDTreeSingleIndexAdaptor<
+    nanoflann::L2_Simple_Adaptor<double, CloudAdaptor, double, std::uint32_t>, CloudAdaptor, 3,
+    std::uint32_t>;
+#if NANOFLANN_VERSION >= 0x150
+nanoflann::SearchParameters exact_sorted_search() {
+  return nanoflann::SearchParameters(0.0f, true);
+}
+#else
+nanoflann::SearchParams exact_sorted_search() { return nanoflann::SearchParams(0, 0.0f, true); }
+#endif
 
 // Squared distance summed in x, y, z order (exact for integer coordinates).
 double dist_sq(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -261,7 +284,45 @@ TEST_CASE("radius_knn on an empty tree and with k < 1 returns 0", "[kdtree]") {
   CHECK(t1.radius_knn(Eigen::Vector3d::Zero(), 0, 1.0, idx, d) == 0);
 }
 
-// nanoflann's findNeighbors with the same result set is the reference: the same indices, the same
+// The leaf order is a permutation of the cloud's indices, and the search on trees of varied shape
+// (ties along the split axes: grids, duplicates, a flat and a straight cloud; clustered ones;
+// sizes around a leaf's) agrees with brute force.
+TEST_CASE("leaf order and search on clouds of varied shape", "[kdtree]") {
+  Rng rng(78);
+  std::vector<PointCloud> clouds;
+  clouds.push_back(core_test::uniform_cloud(rng, 5000, -1.0, 1.0));
+  clouds.push_back(clustered_cloud(rng, 4000));
+  clouds.push_back(with_duplicates(rng, 3000));
+  clouds.push_back(integer_grid(12));
+  PointCloud flat = core_test::uniform_cloud(rng, 3000, -2.0, 2.0);
+  for (Eigen::Vector3d& p : flat) p.z() = 0.0;
+  clouds.push_back(flat);
+  PointCloud line;
+  for (int i = 0; i < 500; ++i) line.emplace_back(0.25 * (i % 37), 1.0, -3.0);
+  clouds.push_back(line);
+  for (std::size_t n : {std::size_t{1}, std::size_t{ppcr::detail::kLeafMaxSize},
+                        std::size_t{ppcr::detail::kLeafMaxSize + 1}, std::size_t{100}}) {
+    clouds.push_back(core_test::uniform_cloud(rng, n, 0.0, 1.0));
+  }
+  for (std::size_t c = 0; c < clouds.size(); ++c) {
+    const PointCloud& cloud = clouds[c];
+    INFO("cloud " << c << " (" << cloud.size() << " points)");
+    KdTree tree;
+    REQUIRE(tree.build(cloud).ok());
+    std::vector<std::uint32_t> order(tree.leaf_order().begin(), tree.leaf_order().end());
+    std::sort(order.begin(), order.end());
+    REQUIRE(order.size() == cloud.size());
+    for (std::size_t i = 0; i < order.size(); ++i) REQUIRE(order[i] == i);
+    for (int qi = 0; qi < 100; ++qi) {
+      Eigen::Vector3d q = cloud[rng() % cloud.size()];
+      if (qi % 2 == 1) q += Eigen::Vector3d(0.3, -0.2, 0.1);
+      CHECK(query_mismatch(tree, cloud, q, 64, 0.25, false) == "");
+    }
+  }
+}
+
+// The differential test of the leaf-order layout (kdtree.cpp): nanoflann's own tree over the
+// cloud as given, searched with the same result set, is the reference: the same indices, the same
 // squared distances bit for bit, in the same order. Grid clouds with duplicates, queries on and
 // off the points, and radii set to a point's exact squared distance put many points exactly at
 // the radius, where the rounding of the search's cell bound decides (an addition in another order
@@ -281,10 +342,10 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
                            0.1 * static_cast<double>(rng() % 10));
       }
     }
-    KdTree tree;  // built on two threads for every other cloud: the same tree
-    REQUIRE(tree.build(cloud, c % 2 == 0 ? nullptr : core_test::parallel(2)).ok());
-    const ppcr::detail::CloudAdaptor adaptor{&cloud};
-    const ppcr::detail::Tree reference(
+    KdTree tree;
+    REQUIRE(tree.build(cloud).ok());
+    const CloudAdaptor adaptor{&cloud};
+    const ReferenceTree reference(
         3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
     for (int qi = 0; qi < 200; ++qi) {
       Eigen::Vector3d q = cloud[rng() % n];
@@ -296,7 +357,7 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
       std::vector<double> got_d(static_cast<std::size_t>(k)), ref_d(static_cast<std::size_t>(k));
       const int got = tree.radius_knn(q, k, radius_sq, got_index.data(), got_d.data());
       ppcr::detail::RadiusKnnResultSet result(k, radius_sq, ref_index.data(), ref_d.data());
-      reference.findNeighbors(result, q.data(), ppcr::detail::exact_sorted_search());
+      reference.findNeighbors(result, q.data(), exact_sorted_search());
       const int expected = result.size();
       ++queries;
       for (int m = 0; m < expected; ++m)
@@ -311,49 +372,4 @@ TEST_CASE("radius_knn returns exactly nanoflann's own search (ties at the radius
   // The cases must exercise points exactly at the radius.
   CHECK(queries == 24 * 200);
   CHECK(at_radius > queries);
-}
-
-// The tree is built as nanoflann builds its own (the same splits: kdtree.cpp's TreeBuilder), on one
-// thread and on two (the root's subtrees at once): nanoflann's leaf order, the order in which its
-// splits leave the points, must come out, index for index. Clouds with ties along the split axes
-// (grids, duplicates, a flat and a straight one), clustered ones, and sizes around a leaf's.
-TEST_CASE("the tree is nanoflann's: its leaf order on 1 and 2 threads", "[kdtree]") {
-  Rng rng(78);
-  std::vector<PointCloud> clouds;
-  clouds.push_back(core_test::uniform_cloud(rng, 5000, -1.0, 1.0));
-  clouds.push_back(clustered_cloud(rng, 4000));
-  clouds.push_back(with_duplicates(rng, 3000));
-  clouds.push_back(integer_grid(12));
-  PointCloud flat = core_test::uniform_cloud(rng, 3000, -2.0, 2.0);
-  for (Eigen::Vector3d& p : flat) p.z() = 0.0;
-  clouds.push_back(flat);
-  PointCloud line;
-  for (int i = 0; i < 500; ++i) line.emplace_back(0.25 * (i % 37), 1.0, -3.0);
-  clouds.push_back(line);
-  for (std::size_t n : {std::size_t{1}, std::size_t{ppcr::detail::kLeafMaxSize},
-                        std::size_t{ppcr::detail::kLeafMaxSize + 1}, std::size_t{100}}) {
-    clouds.push_back(core_test::uniform_cloud(rng, n, 0.0, 1.0));
-  }
-  for (std::size_t c = 0; c < clouds.size(); ++c) {
-    const PointCloud& cloud = clouds[c];
-    const ppcr::detail::CloudAdaptor adaptor{&cloud};
-    const ppcr::detail::Tree reference(
-        3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(ppcr::detail::kLeafMaxSize));
-    const std::vector<std::uint32_t>& expected = ppcr::detail::tree_leaf_order(reference);
-    for (int threads : {1, 2}) {
-      INFO("cloud " << c << " (" << cloud.size() << " points), " << threads << " thread(s)");
-      KdTree tree;
-      REQUIRE(tree.build(cloud, core_test::parallel(threads)).ok());
-      const auto& order = tree.leaf_order();
-      REQUIRE(order.size() == expected.size());
-      CHECK(std::equal(order.begin(), order.end(), expected.begin()));
-      // And the search on it (the nodes' layout), against brute force: up to 64 within 0.5 of
-      // points of the cloud and of points near it.
-      for (int qi = 0; qi < 100; ++qi) {
-        Eigen::Vector3d q = cloud[rng() % cloud.size()];
-        if (qi % 2 == 1) q += Eigen::Vector3d(0.3, -0.2, 0.1);
-        CHECK(query_mismatch(tree, cloud, q, 64, 0.25, false) == "");
-      }
-    }
-  }
 }

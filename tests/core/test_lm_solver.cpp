@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
 #include "core_test_util.hpp"
-#include "lm.hpp"
-#include "lm_solver.hpp"
+#include "solver/lm_options.hpp"
+#include "solver/lm_solver.hpp"
 
 using core_test::Rng;
 using ppcr::LMOptions;

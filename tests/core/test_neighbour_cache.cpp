@@ -10,14 +10,14 @@
 #include <utility>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
+#include "association/kdtree.hpp"
+#include "association/neighbour_cache.hpp"
+#include "association/spatial_order.hpp"
 #include "association_reference.hpp"
+#include "common/parallel.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "neighbour_cache.hpp"
-#include "parallel.hpp"
 #include "ppcr/registration.hpp"
-#include "spatial_order.hpp"
 
 using core_test::Rng;
 using core_test::table_mismatch;

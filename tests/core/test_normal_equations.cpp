@@ -8,16 +8,16 @@
 #include <utility>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
+#include "association/kdtree.hpp"
+#include "common/parallel.hpp"
 #include "core_test_util.hpp"
-#include "four_lanes.hpp"
-#include "four_points.hpp"
-#include "kdtree.hpp"
-#include "normal_equations.hpp"
+#include "model/e_step.hpp"
+#include "model/four_lanes.hpp"
+#include "model/four_points.hpp"
+#include "model/normal_equations.hpp"
 #include "pair_normal_reference.hpp"
-#include "parallel.hpp"
 #include "ppcr/se3.hpp"
-#include "weights.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;

@@ -6,10 +6,10 @@
 #include <limits>
 #include <vector>
 
-#include "association.hpp"
+#include "association/association_table.hpp"
 #include "core_test_util.hpp"
+#include "model/pair_normals.hpp"
 #include "pair_normal_reference.hpp"
-#include "pair_normals.hpp"
 
 namespace {
 

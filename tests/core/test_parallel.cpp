@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "parallel.hpp"
+#include "common/parallel.hpp"
 
 using ppcr::detail::Parallel;
 using ppcr::detail::parallel_for;

@@ -6,10 +6,10 @@
 #include <random>
 #include <vector>
 
+#include "association/kdtree.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "point_spacing.hpp"
-#include "target_normals.hpp"
+#include "preparation/pca_normals.hpp"
+#include "preparation/point_spacing.hpp"
 
 using core_test::brute_force_spacing;
 using ppcr::PointCloud;

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "core_test_util.hpp"
-#include "pose_acceleration.hpp"
 #include "ppcr/se3.hpp"
+#include "registration/pose_acceleration.hpp"
 
 using ppcr::detail::PoseAcceleration;
 using Vector6d = Eigen::Matrix<double, 6, 1>;

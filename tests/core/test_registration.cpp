@@ -11,12 +11,12 @@
 #include <utility>
 #include <vector>
 
+#include "association/kdtree.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"
+#include "preparation/pca_normals.hpp"
 #include "result_checks.hpp"
-#include "target_normals.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -75,7 +75,7 @@ double rms_error(const PointCloud& source, const Eigen::Isometry3d& A, const Eig
 using core_test::brute_force_spacing;
 
 // The upper median over the cloud of the distance to a point's `neighbours`-th nearest (itself
-// counted): the normal fits' typical reach (target_normals.hpp).
+// counted): the normal fits' typical reach (pca_normals.hpp).
 double brute_force_reach(const PointCloud& cloud, int neighbours) {
   std::vector<double> reach;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -89,7 +89,7 @@ double brute_force_reach(const PointCloud& cloud, int neighbours) {
 
 // The PCA normal of cloud[i] by brute force: its `neighbours` nearest points (itself included),
 // the smallest eigenvector of their covariance; zero where they do not spread in two directions
-// (the plane model's convention, target_normals.hpp).
+// (the plane model's convention, pca_normals.hpp).
 Eigen::Vector3d brute_force_normal(const PointCloud& cloud, std::size_t i, int neighbours) {
   const std::vector<std::pair<double, std::size_t>> by_distance =
       core_test::brute_force_nearest(cloud, i, static_cast<std::size_t>(neighbours));
@@ -1081,7 +1081,7 @@ TEST_CASE(
   INFO(describe(r));
   REQUIRE(r.status.ok());
   REQUIRE(r.source_points == 3000);
-  // The coarse phase holds the scale at radius / 2 (weights.hpp), then the scale halves while
+  // The coarse phase holds the scale at radius / 2 (e_step.hpp), then the scale halves while
   // the EM estimate is below its shrink limit (em_min_shrink = 1/4 of s^2): those iterations
   // registered the 1000 points of the coarse level; from the first that neither holds nor halves
   // the scale on, every iteration registers more (all 3000 in range here).

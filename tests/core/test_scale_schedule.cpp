@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "scale_schedule.hpp"
-#include "weights.hpp"
+#include "model/e_step.hpp"
+#include "registration/scale_schedule.hpp"
 
 using ppcr::ScaleMode;
 using ppcr::WeightOptions;

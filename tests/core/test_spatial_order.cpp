@@ -6,9 +6,9 @@
 #include <limits>
 #include <vector>
 
+#include "association/spatial_order.hpp"
+#include "common/parallel.hpp"
 #include "core_test_util.hpp"
-#include "parallel.hpp"
-#include "spatial_order.hpp"
 
 using ppcr::PointCloud;
 using ppcr::detail::spatial_sort;

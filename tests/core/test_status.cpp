@@ -3,9 +3,9 @@
 #include <set>
 #include <string>
 
-#include "lm.hpp"
 #include "ppcr/status.hpp"
-#include "termination.hpp"
+#include "registration/termination.hpp"
+#include "solver/lm_options.hpp"
 
 TEST_CASE("Status: default and Ok() are ok, with an empty message", "[status]") {
   const ppcr::Status a;

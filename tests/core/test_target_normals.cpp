@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
+#include "association/kdtree.hpp"
 #include "core_test_util.hpp"
-#include "kdtree.hpp"
-#include "target_normals.hpp"
+#include "preparation/pca_normals.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -169,7 +169,7 @@ TEST_CASE("upper_median: the upper median of the values >= 0 (spreads of points 
 
 TEST_CASE("seeded queries: normals and spreads equal to the bit fits of unbounded queries",
           "[target_normals]") {
-  // compute_normals bounds each query by its previous point's neighbours (target_normals.hpp);
+  // compute_normals bounds each query by its previous point's neighbours (pca_normals.hpp);
   // the reference fits every point from an unbounded query. A lattice makes exact ties at the
   // k-th distance common (the tie order must survive the seed), the scene has curved surfaces
   // and gaps, and k = 64 reaches past a leaf's points.

@@ -7,7 +7,7 @@
 
 #include "core_test_util.hpp"
 #include "ppcr/metrics.hpp"
-#include "termination.hpp"
+#include "registration/termination.hpp"
 
 using ppcr::IterationReport;
 using ppcr::StopReason;

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "ppcr/result.hpp"
-#include "verdict.hpp"
+#include "quality/verdict.hpp"
 
 using ppcr::Quality;
 using ppcr::RegistrationResult;

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core_test_util.hpp"
-#include "weight_kernel.hpp"
-#include "weights.hpp"
+#include "model/e_step.hpp"
+#include "model/e_step_kernel.hpp"
 
 using core_test::Rng;
 using ppcr::compute_weights;
@@ -307,7 +307,7 @@ TEST_CASE("Overflowing z = r / s^2: weights stay finite", "[weights]") {
   }
 }
 
-// The Student-t kernel takes two neighbours per step in two lanes (weight_kernel.hpp). Each lane
+// The Student-t kernel takes two neighbours per step in two lanes (e_step_kernel.hpp). Each lane
 // must round as the one-neighbour formula written out here: q_k = (nu + z_min) / (nu + r_k / s^2),
 // the power by the method the kernel names for that nu, the sum in order, then c and w = c u.
 TEST_CASE("Student-t weights equal the one-neighbour formula to the bit, for every count",

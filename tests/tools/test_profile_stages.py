@@ -39,7 +39,7 @@ SAMPLES = [
              f"unsigned int const*, unsigned long, {NS}detail::PlanePoint const*, "
              f"{NS}detail::PairNormal*)"],
      "pair_normals.cpp:40", "normal equations (plane pass)"),
-    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "weight_kernel.hpp:40", "E-step (weights)"),
+    (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS], "e_step_kernel.hpp:40", "E-step (weights)"),
     # The weight kernel inlined into the pass (perf names inlined frames without their
     # parameters), its leaf an intrinsic's header.
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS,

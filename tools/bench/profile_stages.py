@@ -12,7 +12,7 @@ stage inside it: the pair normals, formed in the plane pass, count as the pass, 
 of the normal fits as normals, those of the association as search. Inside the plane
 pass, which computes the E-step's weights as it goes, a sample is the E-step's when a frame below
 the pass is the weight kernel's (the kernel is inlined: perf shows it from the debug information
-of a build with -g) or its leaf's source line is in weight_kernel.hpp. ppcr's time is the
+of a build with -g) or its leaf's source line is in e_step_kernel.hpp. ppcr's time is the
 samples under ppcr::align, Registration::set_target or Registration::align; the rest (reading
 files, the bench's own filtering and evaluation) is reported as outside. Prints one JSON object:
 samples, ppcr_samples, and per stage its share of ppcr's samples, plus the k-d search's share
@@ -48,7 +48,7 @@ COMPILED = [(stage, re.compile(NS + r"(?:\w+::)*(?:" + p + ")"), specific)
             for stage, p, specific in RULES]
 ENTRY = re.compile(r"^" + NS + r"(align|Registration::set_target|Registration::align)$")
 KD_SEARCH = re.compile(NS + r"detail::KdTree::(radius_knn|Impl::search)$")
-E_STEP_FILE = "weight_kernel.hpp"
+E_STEP_FILE = "e_step_kernel.hpp"
 E_STEP = next(pattern for stage, pattern, _ in COMPILED if stage.startswith("E-step"))
 
 
