@@ -58,15 +58,26 @@ PPCR_AVX inline __m256d add_product(__m256d acc, __m256d a, __m256d b) {
   return _mm256_add_pd(acc, _mm256_mul_pd(a, b));
 }
 
-}  // namespace
-
-PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
-                               const PlanePoint* points, double epsilon, PairNormalMode mode,
-                               const DyadicStudentT& e_step, BlockSums* sums) {
-  // Per pair slot m, the four rows' values in lanes, kept for the steps below.
+// Per pair slot m, the four rows' values in lanes, kept from step to step: the pair normals s, the
+// errors e = y - p, s's q = 1 / |s|^2 (0 without a normal), s . e, and the squared error r, which
+// the E-step overwrites with u.
+struct PairLanes {
   __m256d sx[kFourPointsMaxPairs], sy[kFourPointsMaxPairs], sz[kFourPointsMaxPairs];
   __m256d ex[kFourPointsMaxPairs], ey[kFourPointsMaxPairs], ez[kFourPointsMaxPairs];
   __m256d qs[kFourPointsMaxPairs], se[kFourPointsMaxPairs], rs[kFourPointsMaxPairs];
+};
+
+// The weighted sums over a row's pairs (accumulate_pair_normals), over c: Obar / c = A I + N,
+// ebar / c = b, U = sum u, ur = sum u r.
+struct PairSums {
+  __m256d A, U, ur, n00, n11, n01, n12, n02, n22, bx, by, bz;
+};
+
+// 1. Pair normals (pair_normals.cpp) and squared errors (squared_errors, normal_equations.cpp);
+// returns each row's smallest squared error.
+PPCR_AVX __m256d pair_errors(const FourPointRow rows[4], std::size_t count,
+                             const PlanePoint* points, double epsilon, PairNormalMode mode,
+                             PairLanes* t) {
   const __m256d zero = _mm256_setzero_pd();
   const __m256d one = _mm256_set1_pd(1.0);
   const __m256d sign_bit = _mm256_set1_pd(-0.0);
@@ -77,8 +88,6 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   const __m256d mx = lanes(rows, &FourPointRow::normal_target, 0);
   const __m256d my = lanes(rows, &FourPointRow::normal_target, 1);
   const __m256d mz = lanes(rows, &FourPointRow::normal_target, 2);
-
-  // 1. Pair normals (pair_normals.cpp) and squared errors (squared_errors, normal_equations.cpp).
   __m256d r_min = zero;
   for (std::size_t m = 0; m < count; ++m) {
     const PlanePoint* record[4] = {&points[rows[0].idx[m]], &points[rows[1].idx[m]],
@@ -104,11 +113,11 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
           no_normal, _mm256_cmp_pd(dot3(nx, ny, nz, mx, my, mz), zero, _CMP_NGE_UQ));
       sign = _mm256_and_pd(flip, sign_bit);
     }
-    sx[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(nx, _mm256_xor_pd(mx, sign)));
-    sy[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(ny, _mm256_xor_pd(my, sign)));
-    sz[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(nz, _mm256_xor_pd(mz, sign)));
+    t->sx[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(nx, _mm256_xor_pd(mx, sign)));
+    t->sy[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(ny, _mm256_xor_pd(my, sign)));
+    t->sz[m] = _mm256_andnot_pd(no_normal, _mm256_add_pd(nz, _mm256_xor_pd(mz, sign)));
     if (mode != PairNormalMode::kFromMemo) {
-      const __m256d sq = dot3(sx[m], sy[m], sz[m], sx[m], sy[m], sz[m]);
+      const __m256d sq = dot3(t->sx[m], t->sy[m], t->sz[m], t->sx[m], t->sy[m], t->sz[m]);
       q = _mm256_and_pd(_mm256_cmp_pd(sq, zero, _CMP_GT_OQ), _mm256_div_pd(one, sq));
       if (mode == PairNormalMode::kFill) {
         alignas(32) double memo[4];
@@ -116,20 +125,29 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
         for (int l = 0; l < 4; ++l) rows[l].memo[m] = memo[l];
       }
     }
-    qs[m] = q;
-    ex[m] = _mm256_sub_pd(yx, px);
-    ey[m] = _mm256_sub_pd(yy, py);
-    ez[m] = _mm256_sub_pd(yz, pz);
-    se[m] = dot3(sx[m], sy[m], sz[m], ex[m], ey[m], ez[m]);
+    t->qs[m] = q;
+    t->ex[m] = _mm256_sub_pd(yx, px);
+    t->ey[m] = _mm256_sub_pd(yy, py);
+    t->ez[m] = _mm256_sub_pd(yz, pz);
+    t->se[m] = dot3(t->sx[m], t->sy[m], t->sz[m], t->ex[m], t->ey[m], t->ez[m]);
     const __m256d a = select(_mm256_cmp_pd(q, zero, _CMP_GT_OQ), eps, one);
-    const __m256d r =
-        _mm256_add_pd(_mm256_mul_pd(a, dot3(ex[m], ey[m], ez[m], ex[m], ey[m], ez[m])),
-                      _mm256_mul_pd(q, _mm256_mul_pd(se[m], se[m])));
-    rs[m] = r;
+    const __m256d r = _mm256_add_pd(
+        _mm256_mul_pd(a, dot3(t->ex[m], t->ey[m], t->ez[m], t->ex[m], t->ey[m], t->ez[m])),
+        _mm256_mul_pd(q, _mm256_mul_pd(t->se[m], t->se[m])));
+    t->rs[m] = r;
     r_min = m == 0 ? r : select(_mm256_cmp_pd(r, r_min, _CMP_LT_OQ), r, r_min);
   }
+  return r_min;
+}
 
-  // 2. E-step (e_step_kernel.hpp, student_t_weights): u_k = p_k q_k, c per row.
+// 2. E-step (e_step_kernel.hpp, student_t_weights): u_k = p_k q_k replaces r_k in t->rs; each
+// row's c and sum u r. Writes the rows' squared errors and adds w_prev . r to sums->cost_prev
+// first. Returns false, having written nothing, when a row's errors all overflow.
+PPCR_AVX bool student_t_lanes(const FourPointRow rows[4], std::size_t count,
+                              const DyadicStudentT& e_step, __m256d r_min, PairLanes* t,
+                              BlockSums* sums, __m256d* c_out, __m256d* ur_out) {
+  __m256d* rs = t->rs;
+  const __m256d zero = _mm256_setzero_pd();
   const __m256d inv = _mm256_set1_pd(e_step.inv_scale_sq);
   const __m256d z_min = _mm256_mul_pd(r_min, inv);
   if (_mm256_movemask_pd(_mm256_cmp_pd(z_min, _mm256_set1_pd(DBL_MAX), _CMP_GT_OQ)) != 0) {
@@ -170,8 +188,21 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   if (_mm256_movemask_pd(finite) != 0xF) {
     c = select(finite, c, _mm256_div_pd(_mm256_div_pd(nu_3, nu_z_min), sum));
   }
+  *c_out = c;
+  *ur_out = ur;
+  return true;
+}
 
-  // 3. Sums (accumulate_pair_normals): Obar / c = A I + N, ebar / c, U; w = c u.
+// 3. The sums over each row's pairs, and its weights w = c u.
+PPCR_AVX PairSums pair_sums(const FourPointRow rows[4], std::size_t count, double epsilon,
+                            __m256d c, __m256d ur, const PairLanes& t) {
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d one = _mm256_set1_pd(1.0);
+  const __m256d eps = _mm256_set1_pd(epsilon);
+  const __m256d* u = t.rs;
+  const __m256d* qs = t.qs;
+  const __m256d *sx = t.sx, *sy = t.sy, *sz = t.sz, *ex = t.ex, *ey = t.ey, *ez = t.ez;
+  const __m256d* se = t.se;
   __m256d A = zero, U = zero, n00 = zero, n11 = zero, n01 = zero, n12 = zero, n02 = zero,
           n22 = zero, bx = zero, by = zero, bz = zero;
   alignas(32) double w_lanes[kFourPointsMaxPairs][4];
@@ -200,18 +231,25 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
   for (int l = 0; l < 4; ++l) {
     for (std::size_t m = 0; m < count; ++m) rows[l].w[m] = w_lanes[m][l];
   }
+  return PairSums{A, U, ur, n00, n11, n01, n12, n02, n22, bx, by, bz};
+}
 
-  // 4. The rows' terms of H and g (add_plane_point, normal_equations.cpp), formed in lanes, then
-  // added to the block's sums row by row: each sum in the rows' order, as one row at a time.
-  const __m256d oxx = _mm256_mul_pd(c, _mm256_add_pd(n00, A));
-  const __m256d oyy = _mm256_mul_pd(c, _mm256_add_pd(n11, A));
-  const __m256d ozz = _mm256_mul_pd(c, _mm256_add_pd(n22, A));
-  const __m256d oxy = _mm256_mul_pd(c, n01);
-  const __m256d oyz = _mm256_mul_pd(c, n12);
-  const __m256d oxz = _mm256_mul_pd(c, n02);
-  const __m256d ebx = _mm256_mul_pd(c, bx);
-  const __m256d eby = _mm256_mul_pd(c, by);
-  const __m256d ebz = _mm256_mul_pd(c, bz);
+// 4. The rows' terms of H and g (add_plane_point, normal_equations.cpp), formed in lanes, then
+// added to the block's sums row by row: each sum in the rows' order, as one row at a time.
+PPCR_AVX void add_row_terms(const FourPointRow rows[4], __m256d c, const PairSums& p,
+                            BlockSums* sums) {
+  const __m256d px = lanes(rows, &FourPointRow::p_target, 0);
+  const __m256d py = lanes(rows, &FourPointRow::p_target, 1);
+  const __m256d pz = lanes(rows, &FourPointRow::p_target, 2);
+  const __m256d oxx = _mm256_mul_pd(c, _mm256_add_pd(p.n00, p.A));
+  const __m256d oyy = _mm256_mul_pd(c, _mm256_add_pd(p.n11, p.A));
+  const __m256d ozz = _mm256_mul_pd(c, _mm256_add_pd(p.n22, p.A));
+  const __m256d oxy = _mm256_mul_pd(c, p.n01);
+  const __m256d oyz = _mm256_mul_pd(c, p.n12);
+  const __m256d oxz = _mm256_mul_pd(c, p.n02);
+  const __m256d ebx = _mm256_mul_pd(c, p.bx);
+  const __m256d eby = _mm256_mul_pd(c, p.by);
+  const __m256d ebz = _mm256_mul_pd(c, p.bz);
   // M = [p]_x Obar, column by column: p x (column of Obar); Eigen's cross product, component by
   // component: (a_y b_z - a_z b_y, a_z b_x - a_x b_z, a_x b_y - a_y b_x).
   const __m256d M00 = difference_of_products(py, oxz, pz, oxy);
@@ -243,8 +281,8 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
                                  difference_of_products(eby, pz, ebz, py),
                                  difference_of_products(ebz, px, ebx, pz),
                                  difference_of_products(ebx, py, eby, px),
-                                 _mm256_mul_pd(c, ur),
-                                 _mm256_mul_pd(c, U)};
+                                 _mm256_mul_pd(c, p.ur),
+                                 _mm256_mul_pd(c, p.U)};
   for (int i = 0; i < kTerms; ++i) _mm256_store_pd(lanes[i], terms[i]);
   // Columns 3-5 of H hold M and Obar's first row contiguously (column-major): (M_0c, M_1c, M_2c,
   // Obar_0c) at H(0, 3 + c), a row's four added as one vector.
@@ -276,6 +314,18 @@ PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
     sums->cost += lanes[15][l];
     sums->S0 += lanes[16][l];
   }
+}
+
+}  // namespace
+
+PPCR_AVX bool four_point_terms(const FourPointRow rows[4], std::size_t count,
+                               const PlanePoint* points, double epsilon, PairNormalMode mode,
+                               const DyadicStudentT& e_step_params, BlockSums* sums) {
+  PairLanes t;
+  const __m256d r_min = pair_errors(rows, count, points, epsilon, mode, &t);
+  __m256d c, ur;
+  if (!student_t_lanes(rows, count, e_step_params, r_min, &t, sums, &c, &ur)) return false;
+  add_row_terms(rows, c, pair_sums(rows, count, epsilon, c, ur, t), sums);
   return true;
 }
 

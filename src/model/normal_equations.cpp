@@ -241,6 +241,89 @@ inline void accumulate_point(const Eigen::Vector3d& p, std::size_t count, const 
   s->ebar_cross_p += ebar.cross(p);  // [p]_x^T ebar = ebar x p
 }
 
+// What every point of one pass reads, and where it writes.
+struct PassContext {
+  const PointCloud* source;
+  const PointCloud* target;
+  const AssociationTable* assoc;
+  Eigen::Matrix3d R;  // the pose T = (R, t)
+  Eigen::Vector3d t;
+  const PlanePoint* points;               // plane model: the target's records
+  const PlaneInformation* information;    // plane model without pair normals
+  const Eigen::Vector3d* source_normals;  // pair normals: the source's normals, rotated by R_pair
+  Eigen::Matrix3d R_pair;
+  double epsilon;
+  PairNormalMode pair_mode;
+  PairNormalMemo memo;
+  const double* w_prev;  // null, or the weights before (cost_prev)
+  double* w_new;
+  double* r_sq;  // null, or room for every pair's squared error
+  std::size_t k;
+};
+
+// One source point's pairs: pair normals, squared errors, E-step, sums. Without r_sq its squared
+// errors live in r_local (read back within the point); its pairs' normals in normals_local.
+template <bool kPlane, bool kPairNormals, class Kernel>
+void point_terms(const PassContext& c, const Kernel& e_step, std::size_t j,
+                 PairNormal* normals_local, double* r_local, BlockSums* s) {
+  const std::size_t count = c.assoc->count[j];
+  const std::size_t slot = j * c.k;
+  const std::uint32_t* idx = &c.assoc->index[slot];
+  double* r = c.r_sq != nullptr ? &c.r_sq[slot] : r_local;
+  double* w = &c.w_new[slot];
+  const PairNormal* normals = nullptr;
+  if constexpr (kPairNormals) {
+    const Eigen::Vector3d m = c.R_pair * c.source_normals[j];
+    if (c.pair_mode != PairNormalMode::kFromMemo) {
+      pair_normals_of_point(m, idx, count, c.points, normals_local,
+                            c.memo.slots != nullptr ? &c.memo.slots[slot] : nullptr);
+    } else {
+      pair_normals_from_memo(m, idx, count, c.points, &c.memo.slots[slot], normals_local);
+    }
+    normals = normals_local;
+  }
+  const Eigen::Vector3d p = c.R * (*c.source)[j] + c.t;
+  const double r_min = squared_errors<kPlane, kPairNormals>(p, count, idx, *c.target, c.points,
+                                                            normals, c.epsilon, r);
+  if (c.w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
+    const double* wp = &c.w_prev[slot];
+    for (std::size_t m = 0; m < count; ++m) s->cost_prev += wp[m] * r[m];
+  }
+  // E-step at this pose (eq. 2-4): w = c * u.
+  const PointWeights pw = e_step(r, r_min, count, w);
+  if constexpr (kPlane && !kPairNormals) {
+    accumulate_plane(p, count, idx, c.points, c.information, r, pw.c, w, s);
+  } else if constexpr (kPlane) {
+    accumulate_pair_normals(p, count, idx, c.points, normals, c.epsilon, r, pw.c, w, s);
+  } else {
+    accumulate_point(p, count, idx, *c.target, r, pw.c, w, s);
+  }
+}
+
+// Four points with count pairs each through four_point_terms() (the same bits as point_terms), or
+// one at a time where their errors overflow.
+template <class Kernel>
+void four_point_rows(const PassContext& c, const Kernel& e_step, const std::size_t waiting[4],
+                     std::size_t count, const DyadicStudentT& four_points,
+                     PairNormal* normals_local, double* r_local, BlockSums* s) {
+  FourPointRow rows[4];
+  for (int l = 0; l < 4; ++l) {
+    const std::size_t slot = waiting[l] * c.k;
+    rows[l].p_target = c.R * (*c.source)[waiting[l]] + c.t;
+    rows[l].normal_target = c.R_pair * c.source_normals[waiting[l]];
+    rows[l].idx = &c.assoc->index[slot];
+    rows[l].w_prev = c.w_prev != nullptr ? &c.w_prev[slot] : nullptr;
+    rows[l].memo = c.memo.slots != nullptr ? &c.memo.slots[slot] : nullptr;
+    rows[l].r_sq = c.r_sq != nullptr ? &c.r_sq[slot] : nullptr;
+    rows[l].w = &c.w_new[slot];
+  }
+  if (!four_point_terms(rows, count, c.points, c.epsilon, c.pair_mode, four_points, s)) {
+    for (int l = 0; l < 4; ++l) {
+      point_terms<true, true>(c, e_step, waiting[l], normals_local, r_local, s);
+    }
+  }
+}
+
 }  // namespace
 
 template <bool kPlane, bool kPairNormals, class Kernel>
@@ -249,33 +332,36 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
                            const double* w_prev, double* w_new, double* r_sq,
                            const Parallel* parallel, const PlaneModel* plane, PairNormalMemo memo,
                            const DyadicStudentT* four_points) {
-  const std::size_t n = source.size();
-  const std::size_t k = static_cast<std::size_t>(assoc.k);
-  const Eigen::Matrix3d R = T.linear();
-  const Eigen::Vector3d t = T.translation();
-  const PlanePoint* points = kPlane ? plane->points->data() : nullptr;
-  const PlaneInformation* information =
-      kPlane && !kPairNormals ? plane->information->data() : nullptr;
+  PassContext c;
+  c.source = &source;
+  c.target = &target;
+  c.assoc = &assoc;
+  c.R = T.linear();
+  c.t = T.translation();
+  c.points = kPlane ? plane->points->data() : nullptr;
+  c.information = kPlane && !kPairNormals ? plane->information->data() : nullptr;
   // Pair normals (source normals on) replace the target points' normals: formed per point from
   // the row's source normal (kPairNormals: a template parameter, so that the per-pair choice is
   // compiled out).
-  const Eigen::Vector3d* source_normals =
-      kPairNormals ? plane->pair_source->normals->data() : nullptr;
-  const Eigen::Matrix3d R_pair =
-      kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
-  const double epsilon = kPlane ? plane->epsilon : 1.0;
-  const PairNormalMode pair_mode = memo.slots == nullptr ? PairNormalMode::kFresh
-                                   : memo.fill           ? PairNormalMode::kFill
-                                                         : PairNormalMode::kFromMemo;
+  c.source_normals = kPairNormals ? plane->pair_source->normals->data() : nullptr;
+  c.R_pair = kPairNormals ? plane->pair_source->R_target_source : Eigen::Matrix3d::Identity();
+  c.epsilon = kPlane ? plane->epsilon : 1.0;
+  c.pair_mode = memo.slots == nullptr ? PairNormalMode::kFresh
+                : memo.fill           ? PairNormalMode::kFill
+                                      : PairNormalMode::kFromMemo;
+  c.memo = memo;
+  c.w_prev = w_prev;
+  c.w_new = w_new;
+  c.r_sq = r_sq;
+  c.k = static_cast<std::size_t>(assoc.k);
   const std::uint8_t* left_out = assoc.any_left_out ? assoc.left_out.data() : nullptr;
 
   parallel_for_blocks(
-      parallel, n, kBlockSize, [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
-        // Without r_sq, a point's squared errors live on the stack (read back within the point);
-        // its pairs' normals in the block's k slots of pair_normals_.
+      parallel, source.size(), kBlockSize,
+      [&](std::ptrdiff_t b, std::size_t begin, std::size_t end) {
         double r_local[AssociationTable::kMaxNeighbours];
         PairNormal* normals_local =
-            kPairNormals ? &pair_normals_[static_cast<std::size_t>(b) * k] : nullptr;
+            kPairNormals ? &pair_normals_[static_cast<std::size_t>(b) * c.k] : nullptr;
         BlockSums s;
         s.S0 = s.cost = s.cost_prev = 0.0;
         s.S1.setZero();
@@ -283,74 +369,21 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
         s.ebar_cross_p.setZero();
         s.S2.setZero();
         s.H.setZero();
-        // One source point's pairs: pair normals, squared errors, E-step, sums.
-        auto one_point = [&](std::size_t j) {
-          const std::size_t count = assoc.count[j];
-          const std::size_t slot = j * k;
-          const std::uint32_t* idx = &assoc.index[slot];
-          double* r = r_sq != nullptr ? &r_sq[slot] : r_local;
-          double* w = &w_new[slot];
-          const PairNormal* normals = nullptr;
-          if constexpr (kPairNormals) {
-            const Eigen::Vector3d m = R_pair * source_normals[j];
-            if (pair_mode != PairNormalMode::kFromMemo) {
-              pair_normals_of_point(m, idx, count, points, normals_local,
-                                    memo.slots != nullptr ? &memo.slots[slot] : nullptr);
-            } else {
-              pair_normals_from_memo(m, idx, count, points, &memo.slots[slot], normals_local);
-            }
-            normals = normals_local;
-          }
-          const Eigen::Vector3d p = R * source[j] + t;
-          const double r_min = squared_errors<kPlane, kPairNormals>(p, count, idx, target, points,
-                                                                    normals, epsilon, r);
-          if (w_prev != nullptr) {  // read before the E-step writes w (w_prev may be w_new)
-            const double* wp = &w_prev[slot];
-            for (std::size_t m = 0; m < count; ++m) s.cost_prev += wp[m] * r[m];
-          }
-          // E-step at this pose (eq. 2-4): w = c * u.
-          const PointWeights pw = e_step(r, r_min, count, w);
-          if constexpr (kPlane && !kPairNormals) {
-            accumulate_plane(p, count, idx, points, information, r, pw.c, w, &s);
-          } else if constexpr (kPlane) {
-            accumulate_pair_normals(p, count, idx, points, normals, epsilon, r, pw.c, w, &s);
-          } else {
-            accumulate_point(p, count, idx, target, r, pw.c, w, &s);
-          }
-        };
-        // With four_points, runs of four points with the same number of pairs go through
-        // four_point_terms() (the same bits), the rest one at a time, every sum in the points'
-        // order.
+        // With four_points, runs of four points with the same number of pairs go four at once,
+        // the rest one at a time, every sum in the points' order.
         std::size_t waiting[4];
         std::size_t n_waiting = 0;
         auto flush = [&] {
-          for (std::size_t i = 0; i < n_waiting; ++i) one_point(waiting[i]);
-          n_waiting = 0;
-        };
-        // The four waiting points, each with count pairs.
-        auto four_at_once = [&](std::size_t count) {
-          if constexpr (kPairNormals) {
-            FourPointRow rows[4];
-            for (int l = 0; l < 4; ++l) {
-              const std::size_t slot = waiting[l] * k;
-              rows[l].p_target = R * source[waiting[l]] + t;
-              rows[l].normal_target = R_pair * source_normals[waiting[l]];
-              rows[l].idx = &assoc.index[slot];
-              rows[l].w_prev = w_prev != nullptr ? &w_prev[slot] : nullptr;
-              rows[l].memo = memo.slots != nullptr ? &memo.slots[slot] : nullptr;
-              rows[l].r_sq = r_sq != nullptr ? &r_sq[slot] : nullptr;
-              rows[l].w = &w_new[slot];
-            }
-            if (!four_point_terms(rows, count, points, epsilon, pair_mode, *four_points, &s)) {
-              for (int l = 0; l < 4; ++l) one_point(waiting[l]);  // overflowing errors
-            }
+          for (std::size_t i = 0; i < n_waiting; ++i) {
+            point_terms<kPlane, kPairNormals>(c, e_step, waiting[i], normals_local, r_local, &s);
           }
+          n_waiting = 0;
         };
         for (std::size_t j = begin; j < end; ++j) {
           const std::size_t count = assoc.count[j];
           if (count == 0) continue;
           if (left_out != nullptr && left_out[j] != 0) {  // not in the solve: weight 0
-            std::fill_n(&w_new[j * k], count, 0.0);
+            std::fill_n(&w_new[j * c.k], count, 0.0);
             continue;
           }
           if constexpr (kPairNormals) {
@@ -358,14 +391,15 @@ void NormalEquations::pass(const Kernel& e_step, const PointCloud& source, const
               if (n_waiting > 0 && assoc.count[waiting[0]] != count) flush();
               waiting[n_waiting++] = j;
               if (n_waiting == 4) {
-                four_at_once(count);
+                four_point_rows(c, e_step, waiting, count, *four_points, normals_local, r_local,
+                                &s);
                 n_waiting = 0;
               }
               continue;
             }
           }
           flush();
-          one_point(j);
+          point_terms<kPlane, kPairNormals>(c, e_step, j, normals_local, r_local, &s);
         }
         flush();
         blocks_[static_cast<std::size_t>(b)] = s;
