@@ -237,41 +237,59 @@ ppcr::Status check_combinations(const RegistrationFlags& f, const ppcr::Registra
 
 }  // namespace
 
+const std::vector<FlagField>& flag_fields() {
+  // --coarse-scale before --scale: a message about expert.scale names --coarse-scale, unless it is
+  // about the fixed scale (with_flag_names).
+  static const std::vector<FlagField> kTable = {
+      {"--radius", "radius"},
+      {"--max-neighbours", "max_neighbours"},
+      {"--error-model", "error_model"},
+      {"--dof", "dof"},
+      {"--source-voxel", "source_voxel"},
+      {"--target-voxel", "target_voxel"},
+      {"--threads", "num_threads"},
+      {"--criterion", "criteria"},
+      {"--max-iterations", "max_iterations"},
+      {"--max-iterations", "expert.fixed_iterations"},
+      {"--cost-drop-threshold", "expert.cost_drop_threshold"},
+      {"--patience", "expert.cost_drop_patience"},
+      {"--mse-ratio", "expert.mse_ratio_threshold"},
+      {"--mse-patience", "expert.mse_patience"},
+      {"--steps-threshold", "expert.successful_steps_threshold"},
+      {"--gaussian", "expert.weight_model"},
+      {"--coarse-scale", "expert.scale"},
+      {"--scale", "expert.scale_mode"},
+      {"--scale", "expert.scale"},
+      {"--min-scale", "expert.em_min_scale"},
+      {"--coarse-patience", "expert.em_coarse_patience"},
+      {"--scale-shrink", "expert.em_min_shrink"},
+      {"--plane-epsilon", "expert.plane_epsilon"},
+      {"--normal-neighbours", "expert.normal_neighbours"},
+      {"--source-normals", "expert.source_normals"},
+      {"--reject-boundary", "expert.reject_boundary"},
+      {"--noise-floor", "expert.noise_floor"},
+      {"--motion-guard", "expert.cost_drop_max_motion"},
+      {"--acceleration", "expert.acceleration_memory"},
+      {"--neighbour-cache", "expert.neighbour_cache"},
+      {"--coarse-stride", "expert.coarse_stride"},
+      {"--lm-tolerance", "expert.lm_function_tolerance"},
+      {"--lm-fine-tolerance", "expert.lm_fine_function_tolerance"}};
+  return kTable;
+}
+
 ppcr::Status with_flag_names(const ppcr::Status& s) {
-  static const std::pair<const char*, const char*> kFields[] = {
-      {"expert.scale (fixed scale)", "--scale"},
-      {"expert.scale", "--coarse-scale"},
-      {"expert.em_coarse_patience", "--coarse-patience"},
-      {"expert.em_min_shrink", "--scale-shrink"},
-      {"expert.em_min_scale", "--min-scale"},
-      {"expert.normal_neighbours", "--normal-neighbours"},
-      {"expert.plane_epsilon", "--plane-epsilon"},
-      {"expert.noise_floor", "--noise-floor"},
-      {"expert.fixed_iterations", "--max-iterations"},
-      {"expert.cost_drop_threshold", "--cost-drop-threshold"},
-      {"expert.cost_drop_patience", "--patience"},
-      {"expert.cost_drop_max_motion", "--motion-guard"},
-      {"expert.mse_ratio_threshold", "--mse-ratio"},
-      {"expert.mse_patience", "--mse-patience"},
-      {"expert.successful_steps_threshold", "--steps-threshold"},
-      {"expert.lm_function_tolerance", "--lm-tolerance"},
-      {"expert.neighbour_cache", "--neighbour-cache"},
-      {"expert.acceleration_memory", "--acceleration"},
-      {"radius", "--radius"},
-      {"max_neighbours", "--max-neighbours"},
-      {"dof", "--dof"},
-      {"source_voxel", "--source-voxel"},
-      {"target_voxel", "--target-voxel"},
-      {"max_iterations", "--max-iterations"},
-      {"num_threads", "--threads"}};
   const std::string& message = s.message();
-  for (const auto& [field, flag] : kFields) {
-    const std::string prefix = std::string(field) + " ";
-    if (message.rfind(prefix, 0) == 0) {
-      const std::string rest = message.substr(prefix.size());
-      const bool rule = rest.rfind("must be ", 0) == 0;
-      return ppcr::Status(s.code(), std::string(flag) + (rule ? ": " : " ") + rest);
-    }
+  // Returns s with `prefix` (a field's name and a space) replaced by flag, if it starts with it.
+  auto renamed = [&](const std::string& prefix, const char* flag) {
+    const std::string rest = message.substr(prefix.size());
+    const bool rule = rest.rfind("must be ", 0) == 0;
+    return ppcr::Status(s.code(), std::string(flag) + (rule ? ": " : " ") + rest);
+  };
+  const std::string fixed_scale = "expert.scale (fixed scale) ";
+  if (message.rfind(fixed_scale, 0) == 0) return renamed(fixed_scale, "--scale");
+  for (const FlagField& row : flag_fields()) {
+    const std::string prefix = std::string(row.field) + " ";
+    if (message.rfind(prefix, 0) == 0) return renamed(prefix, row.flag);
   }
   return s;
 }

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "ppcr/options.hpp"
 #include "ppcr/status.hpp"
@@ -39,6 +40,17 @@ const CLI::Validator& non_empty();
 /// --scale-shrink, --neighbour-cache, --coarse-stride, --lm-tolerance, --lm-fine-tolerance).
 /// Every value flag refuses an empty value.
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
+
+/// One row per flag and options field it sets: the field's name in RegistrationOptions, "expert."
+/// before ExpertOptions's (a flag can set two fields, a field be set by two flags). The one map
+/// between flags and fields: with_flag_names() reads it, and
+/// tests/tools/test_registration_flags.cpp checks it against every flag of the app and every field
+/// of the options (each row's flag, given a value, changes its fields and no other).
+struct FlagField {
+  const char* flag;
+  const char* field;
+};
+const std::vector<FlagField>& flag_fields();
 
 /// A library message that starts with an option's field name ("source_voxel ...", "radius must
 /// be ...") with the flag's name instead.
