@@ -18,6 +18,7 @@
 #include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
+#include "common/usage_error.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/registration.hpp"
@@ -69,7 +70,7 @@ void add_arguments(CLI::App& app, Arguments* a) {
                  "exit with status 3 when the result's fitness (fraction of source points with a "
                  "target point within the radius) is below this, in [0, 1] (default 0: no check)")
       ->check(ppcr_tools::non_empty())
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(CLI::Range(0.0, 1.0).description(""))  // the help says the range
       ->group(kOutputGroup);
   app.add_flag("--verbose", a->verbose, "per-iteration progress on stderr")->group(kOutputGroup);
   app.add_flag("--quiet", a->quiet, "nothing on stderr but errors")->group(kOutputGroup);
@@ -89,6 +90,17 @@ int parse(int argc, char** argv, Arguments* a) {
       ".bin.",
       "ppcr_cli"};
   app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING);
+  app.footer(
+      "Examples:\n"
+      "  ppcr_cli scan.ply map.pcd\n"
+      "      prints the 4x4 transform; the radius is automatic\n"
+      "  ppcr_cli bun045.ply bun000.ply --radius 0.02 --voxel 0.002 --json --output-cloud out.ply\n"
+      "      a radius covering the misalignment, both clouds voxel-filtered; one JSON object\n"
+      "      (pose, verdict, fitness) on stdout, the aligned source written\n"
+      "\n"
+      "Exit status: 0 registered; 1 bad input, a failed registration or an output not written;\n"
+      "2 bad command line; 3 registered, but the verdict is failed or the fitness is below\n"
+      "--min-fitness.");
   add_arguments(app, a);
   try {
     app.parse(argc, argv);
@@ -102,7 +114,8 @@ int parse(int argc, char** argv, Arguments* a) {
     const int code = app.exit(e);
     return stdout_failed() ? fail(std::string("stdout: ") + std::strerror(errno)) : code;
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "ppcr_cli: error: %s (see --help)\n", e.what());
+    std::fprintf(stderr, "ppcr_cli: error: %s (see --help)\n",
+                 ppcr_tools::usage_error(app, e, argc, argv).c_str());
     return 2;
   }
   if (a->quiet) a->verbose = false;

@@ -166,6 +166,26 @@ TEST_CASE("ppcr_cli --help groups the options", "[cli]") {
   CHECK(termination < expert);
   CHECK(r.out.find("--radius", registration) < termination);
   CHECK(r.out.find("--coarse-stride", expert) != std::string::npos);
+  // Two examples and the exit codes; no parser artefacts (a negated flag's "{false}", a range
+  // check's "FLOAT:FLOAT in [0 - 1]").
+  CHECK(r.out.find("Examples:") != std::string::npos);
+  CHECK(r.out.find("Exit status: 0 registered") != std::string::npos);
+  CHECK(r.out.find("{false}") == std::string::npos);
+  CHECK(r.out.find("FLOAT:") == std::string::npos);
+  CHECK(r.out.find("--no-source-normals: off") != std::string::npos);
+}
+
+TEST_CASE("ppcr_cli: a mistyped flag is named with the closest flag, exit 2", "[cli]") {
+  write_pair();
+  Run r = run_cli(pair_args() + " --raduis 0.02");
+  CHECK(r.status == 2);
+  CHECK(r.err.find("--raduis: unknown flag; did you mean --radius?") != std::string::npos);
+  r = run_cli(pair_args() + " --voxel-size 0.1");
+  CHECK(r.status == 2);
+  CHECK(r.err.find("did you mean --voxel?") != std::string::npos);
+  r = run_cli(pair_args() + " --voxel 0.1 --source-voxel 0.2");  // one or the other
+  CHECK(r.status == 2);
+  CHECK(r.err.find("--voxel excludes --source-voxel") != std::string::npos);
 }
 
 TEST_CASE("ppcr_cli reports the verdict: JSON fields and the summary line", "[cli]") {

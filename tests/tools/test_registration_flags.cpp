@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/registration_flags.hpp"
+#include "common/usage_error.hpp"
 
 namespace {
 
@@ -251,6 +252,7 @@ TEST_CASE("each flag changes its table fields and no other", "[tools]") {
       {"--max-neighbours", "--max-neighbours 9"},
       {"--error-model", "--error-model point"},
       {"--dof", "--dof 3"},
+      {"--voxel", "--voxel 0.05"},
       {"--source-voxel", "--source-voxel 0.01"},
       {"--target-voxel", "--target-voxel 0.02"},
       {"--threads", "--threads 2"},
@@ -298,4 +300,15 @@ TEST_CASE("each flag changes its table fields and no other", "[tools]") {
   std::set<std::string> table_flags;
   for (const ppcr_tools::FlagField& row : ppcr_tools::flag_fields()) table_flags.insert(row.flag);
   CHECK(covered == table_flags);
+}
+
+TEST_CASE("closest_flag: the known flag within three edits, or a prefix", "[tools]") {
+  CLI::App app;
+  ppcr_tools::RegistrationFlags flags;
+  ppcr_tools::add_registration_flags(app, &flags);
+  CHECK(ppcr_tools::closest_flag(app, "--raduis") == "--radius");
+  CHECK(ppcr_tools::closest_flag(app, "--treads") == "--threads");
+  CHECK(ppcr_tools::closest_flag(app, "--sourcevoxel") == "--source-voxel");
+  CHECK(ppcr_tools::closest_flag(app, "--voxel-size") == "--voxel");
+  CHECK(ppcr_tools::closest_flag(app, "--completely-else") == "");
 }

@@ -36,6 +36,7 @@
 #include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
+#include "common/usage_error.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/metrics.hpp"
 #include "ppcr/version.hpp"
@@ -230,7 +231,7 @@ int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::Registration
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return usage_error(e.what());
+    return usage_error(ppcr_tools::usage_error(app, e, argc, argv));
   }
   if (!a->merge.empty()) return check_merge_flags(app);
   if (a->problems_path.empty()) return usage_error("PROBLEMS is required (or --merge CSV...)");

@@ -34,6 +34,16 @@ CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string
   return app.add_option(flag, *target, help)->check(non_empty())->group(group);
 }
 
+// A switch as two flags, FLAG and its negation --no-..., each a plain flag in --help.
+void on_off(CLI::App& app, const std::string& flag, bool* target, const std::string& help) {
+  const std::string negation = "--no-" + flag.substr(2);
+  app.add_flag_callback(
+         flag, [target] { *target = true; },
+         help + std::string(" (default ") + (*target ? "on" : "off") + "; " + negation + ": off)")
+      ->group(kExpertGroup);
+  app.add_flag_callback(negation, [target] { *target = false; })->group("");  // hidden
+}
+
 void add_user_flags(CLI::App& app, RegistrationFlags* f) {
   ppcr::RegistrationOptions& o = f->options;
   value(app, "--radius", &o.radius,
@@ -52,10 +62,19 @@ void add_user_flags(CLI::App& app, RegistrationFlags* f) {
         "Student-t degrees of freedom, any finite value > 0 (default " + str(o.dof) +
             "); as it grows the weights tend to --gaussian's, reached to 1e-9 from about 1e12",
         kRegistrationGroup);
+  CLI::Option* voxel =
+      app.add_option_function<double>(
+             "--voxel",
+             [o = &f->options](double leaf) { o->source_voxel = o->target_voxel = leaf; },
+             "voxel-grid leaf for both clouds, cloud units (sets --source-voxel and "
+             "--target-voxel)")
+          ->check(non_empty())
+          ->group(kRegistrationGroup);
   value(app, "--source-voxel", &o.source_voxel,
         "voxel-grid leaf for the source, cloud units (default 0 = off)", kRegistrationGroup);
   value(app, "--target-voxel", &o.target_voxel,
         "voxel-grid leaf for the target, cloud units (default 0 = off)", kRegistrationGroup);
+  voxel->excludes("--source-voxel")->excludes("--target-voxel");
   value(app, "--threads", &o.num_threads, "threads (default 1; results do not depend on it)",
         kRegistrationGroup);
 }
@@ -118,15 +137,11 @@ void add_expert_flags(CLI::App& app, RegistrationFlags* f) {
   value(app, "--normal-neighbours", &e.normal_neighbours,
         "plane: points per normal fit (default " + std::to_string(e.normal_neighbours) + ")",
         kExpertGroup);
-  app.add_flag("--source-normals,!--no-source-normals", e.source_normals,
-               std::string("plane: pairs use the mean of both clouds' normals (default ") +
-                   (e.source_normals ? "on" : "off") + ")")
-      ->group(kExpertGroup);
-  app.add_flag("--reject-boundary,!--no-reject-boundary", e.reject_boundary,
-               std::string("plane + em: after the coarse phase, leave out source points whose "
-                           "nearest target point lies on the target's boundary (default ") +
-                   (e.reject_boundary ? "on" : "off") + ")")
-      ->group(kExpertGroup);
+  on_off(app, "--source-normals", &e.source_normals,
+         "plane: pairs use the mean of both clouds' normals");
+  on_off(app, "--reject-boundary", &e.reject_boundary,
+         "plane + em: after the coarse phase, leave out source points whose nearest target point "
+         "lies on the target's boundary");
   value(app, "--noise-floor", &e.noise_floor,
         "plane + em: floor the scale at this multiple of the target's surface noise (default " +
             str(e.noise_floor) + "; 0 = off)",
@@ -245,6 +260,8 @@ const std::vector<FlagField>& flag_fields() {
       {"--max-neighbours", "max_neighbours"},
       {"--error-model", "error_model"},
       {"--dof", "dof"},
+      {"--voxel", "source_voxel"},
+      {"--voxel", "target_voxel"},
       {"--source-voxel", "source_voxel"},
       {"--target-voxel", "target_voxel"},
       {"--threads", "num_threads"},

@@ -23,6 +23,7 @@
 
 #include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
+#include "common/usage_error.hpp"
 #include "odometry/odometry.hpp"
 #include "odometry/pair_registrar.hpp"
 #include "odometry/scan_list.hpp"
@@ -227,7 +228,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {  // --help
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return fail(2, std::string(e.what()) + " (see --help)");
+    return fail(2, ppcr_tools::usage_error(app, e, argc, argv) + " (see --help)");
   }
   if (!a.evaluate.empty()) return evaluate(a);
   if (app.get_option("--local-map")->count() == 0 && a.method != "ppcr") a.local_map = 1;
