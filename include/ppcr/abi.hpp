@@ -57,6 +57,16 @@
 #error "ppcr/abi.hpp: EIGEN_DEFAULT_ALIGN_BYTES is none of 0, 8, 16, 32, 64"
 #endif
 
+// A program built against the library through CMake (find_package or add_subdirectory) is told the
+// alignment the library was compiled with (PPCR_LIBRARY_STATIC_ALIGN and PPCR_LIBRARY_HEAP_ALIGN,
+// CMakeLists.txt): a mismatch stops its compilation here rather than its link.
+#if defined(PPCR_LIBRARY_STATIC_ALIGN) && defined(PPCR_LIBRARY_HEAP_ALIGN) && \
+    (PPCR_LIBRARY_STATIC_ALIGN != PPCR_ABI_STATIC_ALIGN ||                    \
+     PPCR_LIBRARY_HEAP_ALIGN != PPCR_ABI_HEAP_ALIGN)
+#error \
+    "ppcr: this code is compiled with other instruction-set flags (-march, -mavx, EIGEN_ macros) than the ppcr library it uses, so Eigen would lay out ppcr's types differently: build ppcr and this code with the same flags (third_party/README.md)"
+#endif
+
 #define PPCR_ABI_PASTE(s, h) eigen_align##s##_heap##h
 #define PPCR_ABI_NAME(s, h) PPCR_ABI_PASTE(s, h)
 /// eigen_align<EIGEN_MAX_STATIC_ALIGN_BYTES>_heap<EIGEN_DEFAULT_ALIGN_BYTES>
