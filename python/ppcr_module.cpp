@@ -394,6 +394,8 @@ RegistrationOptions to_options(const py::kwargs& kwargs) {
 
 struct Result {
   py::array_t<double> transformation;  // 4x4, maps source into target
+  std::string status = "ok";           // "ok", or "no_correspondences" (see status_message)
+  std::string status_message;
   bool converged = false;
   std::string stop_reason;
   int iterations = 0;
@@ -486,9 +488,18 @@ py::dict history_dict(const std::vector<ppcr::IterationRecord>& history) {
   return d;
 }
 
+// A registration that ran but found no target point near any source point is a result (status
+// "no_correspondences", verdict failed, fitness 0), as Open3D returns one with fitness 0, so a
+// loop can go on; a refused input is a ValueError.
+bool refused(const ppcr::Status& status) {
+  return !status.ok() && status.code() != ppcr::StatusCode::kNoCorrespondences;
+}
+
 Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   Result out;
   out.transformation = to_array(Eigen::Matrix4d(r.T_target_source.matrix()));
+  out.status = ppcr::to_string(r.status.code());
+  out.status_message = r.status.message();
   out.converged = r.converged();
   out.stop_reason = ppcr::to_string(r.stop_reason);
   out.iterations = r.iterations;
@@ -587,7 +598,7 @@ Result register_clouds(const py::handle& source, const py::handle& target,
   }
   if (state.error) throw *state.error;
   if (!state.cpp_error.empty()) throw std::runtime_error("on_iteration: " + state.cpp_error);
-  if (!r.status.ok()) value_error(r.status.message());
+  if (refused(r.status)) value_error(r.status.message());
   return to_result(r, time_ms);
 }
 
@@ -692,7 +703,7 @@ class PyRegistration {
       time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                     .count();
     }
-    if (!r.status.ok()) value_error(r.status.message());
+    if (refused(r.status)) value_error(r.status.message());
     return to_result(r, time_ms);
   }
 
@@ -719,8 +730,9 @@ std::string register_doc() {
       "on_iteration: called after each outer iteration with a dict (the fields of\n"
       "Result.history, one iteration's values); return False to stop (stop_reason "
       "'cancelled').\n"
-      "Raises ValueError with the library's message for refused input or a failed "
-      "registration.\n\n"
+      "Raises ValueError with the library's message for refused input; a registration that\n"
+      "finds no overlap returns a Result with status 'no_correspondences' and quality\n"
+      "'failed'.\n\n"
       "Options (keyword only; the fields of ppcr::RegistrationOptions and ExpertOptions, with\n"
       "their defaults; lengths in cloud units):\n";
   const RegistrationOptions defaults;
@@ -748,6 +760,11 @@ PYBIND11_MODULE(ppcr, m) {
                     "4x4 float64 array: maps source points into the target's frame")
       .def_readonly("converged", &Result::converged,
                     "True when a termination criterion stopped the loop (not the cap)")
+      .def_readonly("status", &Result::status,
+                    "'ok', or 'no_correspondences' when no source point had a target point "
+                    "within the radius (the pose is the initial guess; quality 'failed')")
+      .def_readonly("status_message", &Result::status_message,
+                    "why the status is not 'ok' (the library's message), else ''")
       .def_readonly("stop_reason", &Result::stop_reason,
                     "why the loop stopped: 'cost_drop', 'max_iterations', 'cancelled'...")
       .def_readonly("iterations", &Result::iterations, "outer iterations run")

@@ -114,7 +114,19 @@ def test_bad_initial(initial, words):
         assert word in str(error.value), error.value
 
 
-def test_no_correspondences_is_an_error():
+def test_no_overlap_is_a_failed_result_not_an_error():
+    """A pair with no overlap is a result a loop can test (as Open3D's fitness 0), not the
+    ValueError of a wrong argument."""
     far = TARGET + [100.0, 0, 0]
-    with pytest.raises(ValueError, match="radius"):
-        register(source=far)
+    r = register(source=far)
+    assert r.status == "no_correspondences"
+    assert "radius" in r.status_message
+    assert r.quality == "failed"
+    assert r.fitness == 0.0
+    assert r.matched_source_points == 0
+    np.testing.assert_array_equal(r.transformation, np.eye(4))  # the initial guess
+    registration = ppcr.Registration()
+    registration.set_target(TARGET)
+    assert registration.align(far).status == "no_correspondences"
+    ok = register()
+    assert ok.status == "ok" and ok.status_message == ""
