@@ -201,6 +201,52 @@ TEST_CASE("the evaluation (--evaluate) prints the ATE and RPE of an estimate") {
   fields >> ate_value;
   CHECK(ate_value < 1e-9);  // the same trajectory in two formats
   CHECK(run(PPCR_ODOMETRY_EXE, "--evaluate '" + truth + "'", dir / "one.err") == 2);
+  // A KITTI estimate shorter than the truth: compared by index over the shorter, and said.
+  {
+    std::ofstream shorter(dir / "short.kitti");
+    const auto lines = lines_of(truth);
+    for (std::size_t i = 0; i + 2 < lines.size(); ++i) shorter << lines[i] << "\n";
+  }
+  CHECK(run(PPCR_ODOMETRY_EXE,
+            "--evaluate '" + truth + "' '" + (dir / "short.kitti").string() + "'",
+            dir / "short.err") == 0);
+  CHECK(read_text(dir / "short.err.out").rfind("poses 4 ", 0) == 0);
+  CHECK(read_text(dir / "short.err").find("the ground truth has 6 poses and the estimate 4") !=
+        std::string::npos);
+}
+
+// TUM files carry times: each estimated pose is compared with the truth interpolated at its
+// time. Truth at 10 Hz and an estimate at other times, both sampled from one motion with constant
+// velocity and angular velocity (which linear interpolation and slerp reproduce): ATE 0.
+TEST_CASE("the evaluation pairs TUM trajectories by timestamp") {
+  const fs::path dir = case_dir("evaluate_tum");
+  auto pose_at = [](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.4 * t, Eigen::Vector3d(0, 0.6, 0.8)).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(0.5, -0.2, 0.1) * t;
+    return T;
+  };
+  {
+    std::ofstream truth(dir / "truth.tum"), estimate(dir / "estimate.tum");
+    for (int k = 0; k <= 45; ++k)
+      truth << ppcr_odometry::tum_line(100.0 + 0.1 * k, pose_at(0.1 * k)) << "\n";
+    for (int k = 0; k < 30; ++k) {  // 6 Hz, starting between two true poses; the last 3 outside
+      const double t = 0.033 + k / 6.0;
+      estimate << ppcr_odometry::tum_line(100.0 + t, pose_at(t)) << "\n";
+    }
+  }
+  REQUIRE(run(PPCR_ODOMETRY_EXE,
+              "--evaluate '" + (dir / "truth.tum").string() + "' '" +
+                  (dir / "estimate.tum").string() + "'",
+              dir / "eval.err") == 0);
+  const std::string printed = read_text(dir / "eval.err.out");
+  REQUIRE(printed.rfind("poses 30 ate_rmse ", 0) != 0);  // not paired by index
+  REQUIRE(printed.rfind("poses 27 ate_rmse ", 0) == 0);
+  std::istringstream fields(printed.substr(std::string("poses 27 ate_rmse ").size()));
+  double ate_value = -1.0;
+  fields >> ate_value;
+  CHECK(ate_value < 1e-9);
+  CHECK(read_text(dir / "eval.err").find("paired by timestamp: 27 of 30") != std::string::npos);
 }
 
 TEST_CASE("an unreadable scan stops the sequence naming it, with the poses before it on disk") {

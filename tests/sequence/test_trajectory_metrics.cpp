@@ -2,6 +2,7 @@
 // per metre against closed forms.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "odometry/trajectory_metrics.hpp"
@@ -104,4 +105,47 @@ TEST_CASE("too few poses, or a truth that does not move, are refused") {
   CHECK(!ppcr_odometry::trajectory_errors(straight_line(5), straight_line(5), 5, &e).ok());
   const Poses still(5, Eigen::Isometry3d::Identity());
   CHECK(!ppcr_odometry::trajectory_errors(still, still, 1, &e).ok());
+}
+
+namespace {
+
+// A motion whose samples slerp and linear interpolation reproduce exactly: constant velocity and
+// constant angular velocity about a fixed axis.
+Eigen::Isometry3d motion_at(double t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.5 * t, Eigen::Vector3d(1, 2, 2).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(1.0, 2.0, -0.5) * t + Eigen::Vector3d(3, 0, 1);
+  return T;
+}
+
+}  // namespace
+
+TEST_CASE("poses_at_times: the truth interpolated at the estimate's times, outside ones left out") {
+  std::vector<double> truth_times, times;
+  Poses truth, estimate;
+  for (int k = 0; k <= 20; ++k) {  // 10 Hz over 2 s
+    truth_times.push_back(0.1 * k);
+    truth.push_back(motion_at(0.1 * k));
+  }
+  for (double t : {-1.0, 0.0, 0.05, 0.37, 1.0, 1.999, 2.0, 2.5}) {
+    times.push_back(t);
+    estimate.push_back(motion_at(t));
+  }
+  Poses matched_truth, matched_estimate;
+  std::size_t outside = 99;
+  REQUIRE(ppcr_odometry::poses_at_times(truth_times, truth, times, estimate, &matched_truth,
+                                        &matched_estimate, &outside)
+              .ok());
+  CHECK(outside == 2);  // -1 and 2.5
+  REQUIRE(matched_truth.size() == 6);
+  REQUIRE(matched_estimate.size() == 6);
+  for (std::size_t i = 0; i < matched_truth.size(); ++i) {
+    INFO("pose " << i);
+    CHECK((matched_truth[i].matrix() - matched_estimate[i].matrix()).norm() < 1e-12);
+  }
+  truth_times[5] = truth_times[4];  // not increasing
+  const ppcr::Status s = ppcr_odometry::poses_at_times(truth_times, truth, times, estimate,
+                                                       &matched_truth, &matched_estimate, &outside);
+  CHECK(s.code() == ppcr::StatusCode::kInvalidArgument);
+  CHECK(s.message().find("pose 6") != std::string::npos);
 }

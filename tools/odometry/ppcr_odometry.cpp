@@ -15,6 +15,7 @@
 // CSV. Exit 0 on success; 1 when a scan cannot be read or registered (the message names it; the
 // files hold the poses of the scans before it) or an output cannot be written; 2 for bad usage.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -95,7 +96,8 @@ void add_arguments(CLI::App& app, Arguments* a) {
       ->group(kOutputGroup);
   app.add_option("--evaluate", a->evaluate,
                  "GROUND_TRUTH ESTIMATE: print ATE RMSE and RPE of ESTIMATE (KITTI or TUM; poses "
-                 "paired by index over the shorter) and exit; no scans are registered")
+                 "paired by timestamp when both are TUM files, else by index over the shorter) and "
+                 "exit; no scans are registered")
       ->expected(2)
       ->group("Evaluation");
   app.add_option("--rpe-delta", a->rpe_delta, "RPE step, scans (default 1)")
@@ -110,8 +112,28 @@ int evaluate(const Arguments& a) {
   ppcr::Status s = ppcr_odometry::read_trajectory(a.evaluate[0], &truth);
   if (s.ok()) s = ppcr_odometry::read_trajectory(a.evaluate[1], &estimate);
   if (!s.ok()) return fail(1, s.message());
+  // Both with times (TUM): each estimated pose against the truth at its time; otherwise pose i
+  // against pose i, saying so when the lengths differ.
+  std::vector<Eigen::Isometry3d> truth_poses = truth.poses, estimate_poses = estimate.poses;
+  if (truth.timed && estimate.timed) {
+    std::size_t outside = 0;
+    s = ppcr_odometry::poses_at_times(truth.times, truth.poses, estimate.times, estimate.poses,
+                                      &truth_poses, &estimate_poses, &outside);
+    if (!s.ok()) return fail(1, a.evaluate[0] + ": " + s.message());
+    std::fprintf(stderr,
+                 "ppcr_odometry: paired by timestamp: %zu of %zu estimated poses, the truth "
+                 "interpolated at their times (%zu outside its time span left out)\n",
+                 estimate_poses.size(), estimate.poses.size(), outside);
+  } else if (truth.poses.size() != estimate.poses.size()) {
+    std::fprintf(stderr,
+                 "ppcr_odometry: the ground truth has %zu poses and the estimate %zu: compared "
+                 "the first %zu, pose i with pose i (give both as TUM files to pair them by "
+                 "time)\n",
+                 truth.poses.size(), estimate.poses.size(),
+                 std::min(truth.poses.size(), estimate.poses.size()));
+  }
   ppcr_odometry::TrajectoryErrors errors;
-  s = ppcr_odometry::trajectory_errors(truth.poses, estimate.poses, a.rpe_delta, &errors);
+  s = ppcr_odometry::trajectory_errors(truth_poses, estimate_poses, a.rpe_delta, &errors);
   if (!s.ok()) return fail(1, s.message());
   std::printf("poses %zu ate_rmse %.6g rpe_percent %.6g rpe_deg_per_m %.6g distance %.6g\n",
               errors.poses, errors.ate_rmse, 100.0 * errors.rpe_translation,

@@ -117,6 +117,7 @@ ppcr::Status read_trajectory(const std::string& path, Trajectory* trajectory) {
   if (trajectory->poses.empty()) {
     return ppcr::Status(ppcr::StatusCode::kParseError, path + ": no pose in the file");
   }
+  trajectory->timed = columns == 8;
   return ppcr::Status::Ok();
 }
 

@@ -16,6 +16,7 @@ namespace ppcr_odometry {
 struct Trajectory {
   std::vector<double> times;  // seconds (TUM); KITTI: the line index (no times in the format)
   std::vector<Eigen::Isometry3d> poses;
+  bool timed = false;  // the times are the file's (TUM), not line indices
 };
 
 std::string kitti_line(const Eigen::Isometry3d& pose);

@@ -60,4 +60,45 @@ ppcr::Status trajectory_errors(const std::vector<Eigen::Isometry3d>& truth,
   return ppcr::Status::Ok();
 }
 
+ppcr::Status poses_at_times(const std::vector<double>& truth_times,
+                            const std::vector<Eigen::Isometry3d>& truth_poses,
+                            const std::vector<double>& times,
+                            const std::vector<Eigen::Isometry3d>& poses,
+                            std::vector<Eigen::Isometry3d>* matched_truth,
+                            std::vector<Eigen::Isometry3d>* matched_estimate,
+                            std::size_t* outside) {
+  for (std::size_t i = 1; i < truth_times.size(); ++i) {
+    if (!(truth_times[i] > truth_times[i - 1])) {
+      return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
+                          "the ground truth's times must increase: pose " + std::to_string(i + 1) +
+                              " is not later than pose " + std::to_string(i));
+    }
+  }
+  matched_truth->clear();
+  matched_estimate->clear();
+  *outside = 0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const double t = times[j];
+    if (truth_times.empty() || t < truth_times.front() || t > truth_times.back()) {
+      ++*outside;
+      continue;
+    }
+    // The first true pose later than t (or the last one), and the one before it.
+    const std::size_t after = static_cast<std::size_t>(
+        std::upper_bound(truth_times.begin(), truth_times.end(), t) - truth_times.begin());
+    const std::size_t b = std::min(after, truth_times.size() - 1);
+    const std::size_t a = b == 0 ? 0 : b - 1;
+    const double span = truth_times[b] - truth_times[a];
+    const double f = span > 0.0 ? (t - truth_times[a]) / span : 0.0;
+    const Eigen::Quaterniond qa(truth_poses[a].linear()), qb(truth_poses[b].linear());
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = qa.slerp(f, qb).toRotationMatrix();
+    pose.translation() =
+        (1.0 - f) * truth_poses[a].translation() + f * truth_poses[b].translation();
+    matched_truth->push_back(pose);
+    matched_estimate->push_back(poses[j]);
+  }
+  return ppcr::Status::Ok();
+}
+
 }  // namespace ppcr_odometry

@@ -37,4 +37,16 @@ ppcr::Status trajectory_errors(const std::vector<Eigen::Isometry3d>& truth,
                                const std::vector<Eigen::Isometry3d>& estimate, int delta,
                                TrajectoryErrors* errors);
 
+/// The poses of `truth` at the times of `estimate`'s, for trajectories that both carry times
+/// (TUM), as TUM's evaluation tools pair them: each estimated pose at time t with the truth
+/// interpolated at t between the two true poses around it (translation linearly, rotation by
+/// slerp). Estimated poses outside the truth's time span are left out and counted in *outside.
+/// The truth's times must increase; kInvalidArgument otherwise, naming the line.
+ppcr::Status poses_at_times(const std::vector<double>& truth_times,
+                            const std::vector<Eigen::Isometry3d>& truth_poses,
+                            const std::vector<double>& times,
+                            const std::vector<Eigen::Isometry3d>& poses,
+                            std::vector<Eigen::Isometry3d>* matched_truth,
+                            std::vector<Eigen::Isometry3d>* matched_estimate, std::size_t* outside);
+
 }  // namespace ppcr_odometry
