@@ -249,6 +249,21 @@ TEST_CASE("the evaluation pairs TUM trajectories by timestamp") {
   CHECK(read_text(dir / "eval.err").find("paired by timestamp: 27 of 30") != std::string::npos);
 }
 
+TEST_CASE("a sequence whose first scan cannot be read leaves no output file") {
+  const fs::path dir = case_dir("failed_start");
+  make_sequence(dir, 3);
+  std::ofstream(dir / "seq/scans/scan_000000.ply") << "ply\nformat ascii 1.0\nend_header\ngarbage";
+  const fs::path out = dir / "out";
+  const std::string arguments = "'" + (dir / "seq/scans").string() + "' --kitti '" + out.string() +
+                                ".kitti' --tum '" + out.string() + ".tum' --pairs '" +
+                                out.string() + ".csv'";
+  CHECK(run(PPCR_ODOMETRY_EXE, arguments, out.string() + ".err") == 1);
+  CHECK(read_text(out.string() + ".err").find("(no output written)") != std::string::npos);
+  CHECK_FALSE(fs::exists(out.string() + ".kitti"));
+  CHECK_FALSE(fs::exists(out.string() + ".tum"));
+  CHECK_FALSE(fs::exists(out.string() + ".csv"));
+}
+
 TEST_CASE("an unreadable scan stops the sequence naming it, with the poses before it on disk") {
   const fs::path dir = case_dir("unreadable");
   make_sequence(dir, 8);

@@ -218,6 +218,12 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
   s = ppcr_odometry::run_odometry(scans, settings, registrar.get(), &trajectory, &log, &summary);
   const ppcr::Status closed = trajectory.close();
   const ppcr::Status log_closed = log.close();
+  if (!s.ok() && summary.registered == 0) {  // a failed start leaves no output behind
+    for (const std::string* path : {&a.kitti, &a.tum, &a.pairs}) {
+      if (!path->empty()) std::remove(path->c_str());
+    }
+    return fail(1, s.message() + " (no output written)");
+  }
   if (!s.ok()) {
     return fail(1, s.message() + " (trajectory of the " + std::to_string(summary.registered) +
                        " scans before it written)");
