@@ -41,7 +41,7 @@ class KdTree {
   KdTree(KdTree&&) noexcept;
   KdTree& operator=(KdTree&&) noexcept;
 
-  /// Indexes a copy of points (24 B per point, plus nanoflann's 4 B index and its nodes). At most
+  /// Indexes a copy of points (24 B per point, plus 8 B of indices and nanoflann's nodes). At most
   /// 2^31 - 1 points; out of memory is a status, not an exception.
   Status build(const PointCloud& points);
 

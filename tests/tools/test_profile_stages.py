@@ -17,8 +17,11 @@ SET_TARGET = f"{NS}Registration::set_target({CLOUD})"
 REG_ALIGN = f"{NS}Registration::align({CLOUD}, Eigen::Transform<double, 3, 1, 0> const&)"
 KD = [f"{NS}detail::KdTree::radius_knn(Eigen::Matrix<double, 3, 1, 0, 3, 1> const&, int, "
       "double, unsigned int*, double*) const",
-      f"{NS}detail::KdTree::Impl::search({NS}detail::(anonymous namespace)::FlatNode const*, "
-      f"double const*, double, double*, {NS}detail::RadiusKnnResultSet&) const"]
+      "bool nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, "
+      f"{NS}detail::(anonymous namespace)::CloudAdaptor, double, unsigned int>, "
+      f"{NS}detail::(anonymous namespace)::CloudAdaptor, 3, unsigned int>::searchLevel<"
+      f"{NS}detail::RadiusKnnResultSet>({NS}detail::RadiusKnnResultSet&, double const*, "
+      "nanoflann::KDTreeBaseClass<...>::Node*, double, std::array<double, 3ul>&, float) const"]
 FIND = f"{NS}detail::Associator::find(bool, Eigen::Transform<double, 3, 1, 0> const&)"
 SOLVE = f"{NS}detail::LMSolver::solve({NS}LMOptions const&, {NS}detail::LMProblem const&, " \
         "Eigen::Transform<double, 3, 1, 0>*)"
@@ -29,10 +32,10 @@ ROOT = ["_start", "__libc_start_main_impl", "main"]
 
 # (call chain from the root, the leaf's source line, its stage or None for outside ppcr).
 SAMPLES = [
-    (ROOT + [ALIGN, SET_TARGET, f"{NS}detail::compute_normals({CLOUD})"] + KD, "kdtree.cpp:90",
+    (ROOT + [ALIGN, SET_TARGET, f"{NS}detail::compute_normals({CLOUD})"] + KD, "nanoflann.hpp:1745",
      "normals and information matrices"),
     (ROOT + [ALIGN, REG_ALIGN, FIND, f"{NS}detail::associate_cached({CLOUD})"] + KD,
-     "kdtree.cpp:90", "search (k-d tree, neighbour cache, association)"),
+     "nanoflann.hpp:1745", "search (k-d tree, neighbour cache, association)"),
     # The pair normals, formed in the plane pass with source normals, count as the pass.
     (ROOT + [ALIGN, REG_ALIGN, SOLVE, PASS.replace("pass<true, false,", "pass<true, true,"),
              f"{NS}detail::pair_normals_of_point(Eigen::Matrix<double, 3, 1, 0, 3, 1> const&, "
@@ -49,13 +52,13 @@ SAMPLES = [
      "normal equations (plane pass)"),
     (ROOT + [ALIGN, REG_ALIGN, SOLVE], "lm_solver.cpp:80", "LM and outer-loop bookkeeping"),
     (ROOT + [f"{NS}voxel_downsample({CLOUD}, double, {CLOUD}*)"], "voxel.cpp:20", None),
-    (ROOT + [ALIGN, REG_ALIGN, f"{NS}detail::measure_alignment(int)"] + KD, "kdtree.cpp:90",
+    (ROOT + [ALIGN, REG_ALIGN, f"{NS}detail::measure_alignment(int)"] + KD, "nanoflann.hpp:1745",
      "quality measures"),
-    (ROOT + [ALIGN, SET_TARGET, f"{NS}detail::median_spacing({CLOUD})"] + KD, "kdtree.cpp:90",
+    (ROOT + [ALIGN, SET_TARGET, f"{NS}detail::median_spacing({CLOUD})"] + KD, "nanoflann.hpp:1745",
      "set-up (tree, preparation, spacing)"),
     # The spacing is set-up in set_target, but a quality measure inside measure_alignment.
     (ROOT + [ALIGN, REG_ALIGN, f"{NS}detail::measure_alignment(int)",
-             f"{NS}detail::median_spacing({CLOUD})"] + KD, "kdtree.cpp:90", "quality measures"),
+             f"{NS}detail::median_spacing({CLOUD})"] + KD, "nanoflann.hpp:1745", "quality measures"),
     (ROOT + [ALIGN, REG_ALIGN, f"{NS}Registration::Impl::start(int)",
              f"{NS}detail::LMSolver::resize(unsigned long, int)", "__memset_avx2_unaligned"],
      "memset.S:10", "set-up (tree, preparation, spacing)"),

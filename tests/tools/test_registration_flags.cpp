@@ -312,3 +312,19 @@ TEST_CASE("closest_flag: the known flag within three edits, or a prefix", "[tool
   CHECK(ppcr_tools::closest_flag(app, "--voxel-size") == "--voxel");
   CHECK(ppcr_tools::closest_flag(app, "--completely-else") == "");
 }
+
+TEST_CASE("a switch and its negation: the last one given wins", "[tools]") {
+  CHECK_FALSE(parse("--source-normals --no-source-normals").options.expert.source_normals);
+  CHECK(parse("--no-source-normals --source-normals").options.expert.source_normals);
+  CHECK_FALSE(parse("--reject-boundary --no-reject-boundary").options.expert.reject_boundary);
+  CHECK(parse("--no-reject-boundary --reject-boundary").options.expert.reject_boundary);
+}
+
+TEST_CASE("a bad leaf is named by the flag given", "[tools]") {
+  Parsed p = parse("--source-voxel -1");
+  CHECK(p.status.message().rfind("--source-voxel", 0) == 0);
+  p = parse("--target-voxel -1");
+  CHECK(p.status.message().rfind("--target-voxel", 0) == 0);
+  p = parse("--voxel -1");
+  CHECK_FALSE(p.status.ok());
+}

@@ -47,7 +47,7 @@ STAGES = [r[0] for r in RULES]
 COMPILED = [(stage, re.compile(NS + r"(?:\w+::)*(?:" + p + ")"), specific)
             for stage, p, specific in RULES]
 ENTRY = re.compile(r"^" + NS + r"(align|Registration::set_target|Registration::align)$")
-KD_SEARCH = re.compile(NS + r"detail::KdTree::(radius_knn|Impl::search)$")
+KD_SEARCH = re.compile(NS + r"detail::KdTree::radius_knn$")  # nanoflann's search runs under it
 E_STEP_FILE = "e_step_kernel.hpp"
 E_STEP = next(pattern for stage, pattern, _ in COMPILED if stage.startswith("E-step"))
 

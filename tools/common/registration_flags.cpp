@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -34,15 +35,28 @@ CLI::Option* value(CLI::App& app, const char* flag, T* target, const std::string
   return app.add_option(flag, *target, help)->check(non_empty())->group(group);
 }
 
-// A switch as two flags, FLAG and its negation --no-..., each a plain flag in --help.
+// A switch: FLAG turns it on, --no-... off; the last one given wins.
 void on_off(CLI::App& app, const std::string& flag, bool* target, const std::string& help) {
   const std::string negation = "--no-" + flag.substr(2);
-  app.add_flag_callback(
-         flag, [target] { *target = true; },
+  app.add_flag(
+         flag + ",!" + negation, *target,
          help + std::string(" (default ") + (*target ? "on" : "off") + "; " + negation + ": off)")
       ->group(kExpertGroup);
-  app.add_flag_callback(negation, [target] { *target = false; })->group("");  // hidden
 }
+
+// --help without CLI11's value of a negated flag ("--x,--no-x{false}"): the text says it.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_option_name(const CLI::Option* option, bool positional) const override {
+    std::string name = CLI::Formatter::make_option_name(option, positional);
+    for (std::size_t open = name.find('{'); open != std::string::npos; open = name.find('{')) {
+      const std::size_t close = name.find('}', open);
+      if (close == std::string::npos) break;
+      name.erase(open, close - open + 1);
+    }
+    return name;
+  }
+};
 
 void add_user_flags(CLI::App& app, RegistrationFlags* f) {
   ppcr::RegistrationOptions& o = f->options;
@@ -260,10 +274,10 @@ const std::vector<FlagField>& flag_fields() {
       {"--max-neighbours", "max_neighbours"},
       {"--error-model", "error_model"},
       {"--dof", "dof"},
-      {"--voxel", "source_voxel"},
-      {"--voxel", "target_voxel"},
       {"--source-voxel", "source_voxel"},
       {"--target-voxel", "target_voxel"},
+      {"--voxel", "source_voxel"},  // after: a message about source_voxel names --source-voxel
+      {"--voxel", "target_voxel"},
       {"--threads", "num_threads"},
       {"--criterion", "criteria"},
       {"--max-iterations", "max_iterations"},
@@ -321,6 +335,7 @@ const CLI::Validator& non_empty() {
 }
 
 void add_registration_flags(CLI::App& app, RegistrationFlags* f) {
+  app.formatter(std::make_shared<HelpFormatter>());
   add_user_flags(app, f);
   add_termination_flags(app, f);
   add_expert_flags(app, f);

@@ -38,7 +38,8 @@ const CLI::Validator& non_empty();
 /// expert flags (--gaussian, --scale, --coarse-scale, --min-scale, --plane-epsilon,
 /// --normal-neighbours, --source-normals, --noise-floor, --motion-guard, --coarse-patience,
 /// --scale-shrink, --neighbour-cache, --coarse-stride, --lm-tolerance, --lm-fine-tolerance).
-/// Every value flag refuses an empty value.
+/// Every value flag refuses an empty value. Installs the app's help formatter (no "{false}"
+/// after a negated flag).
 void add_registration_flags(CLI::App& app, RegistrationFlags* flags);
 
 /// One row per flag and options field it sets: the field's name in RegistrationOptions, "expert."

@@ -40,8 +40,7 @@ std::string closest_flag(const CLI::App& app, const std::string& flag) {
     for (const std::string& name : option->get_lnames()) {
       const std::string known = "--" + name;
       std::size_t d = edit_distance(flag, known);
-      // A prefix or suffix the user typed ("--voxel-size" for "--voxel") is close whatever its
-      // length.
+      // One a prefix of the other ("--voxel-size" for "--voxel") is close whatever the length.
       if (flag.size() > 4 && (known.rfind(flag, 0) == 0 || flag.rfind(known, 0) == 0)) d = 1;
       if (d < best_distance) best_distance = d, best = known;
     }

@@ -8,8 +8,8 @@
 namespace ppcr_tools {
 
 /// The message for a parse error of `app` on argv: for arguments CLI11 did not expect, each
-/// unknown flag with its closest known flag (edit distance at most 3, or a known flag it starts
-/// or ends); otherwise CLI11's own message.
+/// unknown flag with its closest known flag (edit distance at most 3, or one of the two a prefix
+/// of the other); otherwise CLI11's own message.
 std::string usage_error(const CLI::App& app, const CLI::ParseError& error, int argc,
                         const char* const* argv);
 

@@ -79,7 +79,7 @@ ppcr::Status poses_at_times(const std::vector<double>& truth_times,
   *outside = 0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     const double t = times[j];
-    if (truth_times.empty() || t < truth_times.front() || t > truth_times.back()) {
+    if (truth_times.empty() || !(t >= truth_times.front() && t <= truth_times.back())) {
       ++*outside;
       continue;
     }

@@ -38,10 +38,11 @@ ppcr::Status trajectory_errors(const std::vector<Eigen::Isometry3d>& truth,
                                TrajectoryErrors* errors);
 
 /// The poses of `truth` at the times of `estimate`'s, for trajectories that both carry times
-/// (TUM), as TUM's evaluation tools pair them: each estimated pose at time t with the truth
-/// interpolated at t between the two true poses around it (translation linearly, rotation by
-/// slerp). Estimated poses outside the truth's time span are left out and counted in *outside.
-/// The truth's times must increase; kInvalidArgument otherwise, naming the line.
+/// (TUM): each estimated pose at time t with the truth interpolated at t between the two true
+/// poses around it (translation linearly, rotation by slerp; TUM's associate.py takes the nearest
+/// instead). Estimated poses outside the truth's time span (or at a NaN time) are left out and
+/// counted in *outside. The truth's times must increase; kInvalidArgument otherwise, naming the
+/// pose (its place in the trajectory).
 ppcr::Status poses_at_times(const std::vector<double>& truth_times,
                             const std::vector<Eigen::Isometry3d>& truth_poses,
                             const std::vector<double>& times,
