@@ -26,6 +26,13 @@ void put(std::string* out, T value, bool big_endian = false) {
   }
 }
 
+// IHDR 4 x 3, 16-bit gray; IDAT (zlib) of depths 1000 + 300 i, 0 at i = 5; IEND.
+constexpr char kDepthPng[] =
+    "\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x04\x00\x00\x00\x03\x10\x00\x00\x00\x00"
+    "\xc1\x0f\x2d\x59\x00\x00\x00\x23IDAT\x78\xda\x63\x60\x7e\xc1\x2a\xc2\xe6\xc0\x9e\xc3\xc0\x31"
+    "\x83\x81\x81\xeb\x03\x8f\x0c\x03\xaf\x07\x5f\x09\xff\x02\x81\x33\x00\x47\x0f\x05\xe2\x13"
+    "\x2a\xdd\xaf\x00\x00\x00\x00IEND\xae\x42\x60\x82";
+
 bool save(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -321,6 +328,8 @@ int main(int argc, char** argv) {
   ok &= save(out / "xyz" / "bom_zyx.csv", kBom + std::string("Z, Y, X\n3,2,1\n6,5,4\n"));
   ok &= save(out / "xyz" / "cloudcompare.txt", "//X Y Z R G B\n1 2 3 255 0 0\n4 5 6 0 255 0\n");
   ok &= save(out / "xyz" / "bom.pts", kBom + std::string("1\n1 2 3\n"));
+  // A 4 x 3 depth image (16-bit grayscale PNG, one hole), for fuzz_xyz's content detection.
+  ok &= save(out / "xyz" / "depth.png", std::string(kDepthPng, sizeof kDepthPng - 1));
   // Transforms: 16 numbers, 12 numbers with comments.
   ok &= save(out / "transform" / "t16.txt", "1 0 0 1.5\n0 1 0 -2\n0 0 1 0.25\n0 0 0 1\n");
   ok &= save(out / "transform" / "t12.txt", "# gt\n0.6 -0.8 0 1\n0.8 0.6 0 2 # row\n0 0 1 3\n");

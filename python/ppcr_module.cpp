@@ -628,13 +628,41 @@ std::string path_text(const py::handle& path) {
   value_error(s.message());
 }
 
-py::array_t<double> read_point_cloud(const py::handle& path) {
+// depth_intrinsics (fx, fy, cx, cy) and depth_scale, as ppcr_cli's --depth-intrinsics and
+// --depth-scale: ppcr::io::DepthCamera's defaults (TUM's) where None.
+ppcr::io::DepthCamera depth_camera(const py::object& intrinsics, const py::object& scale) {
+  ppcr::io::DepthCamera camera;
+  if (!intrinsics.is_none()) {
+    std::vector<double> v;
+    if (!py::isinstance<py::sequence>(intrinsics) || py::isinstance<py::str>(intrinsics)) {
+      throw py::type_error("depth_intrinsics must be a sequence of 4 numbers (fx, fy, cx, cy)");
+    }
+    for (const py::handle item : intrinsics) {
+      try {
+        v.push_back(item.cast<double>());
+      } catch (const py::cast_error&) {
+        throw py::type_error("depth_intrinsics must be a sequence of 4 numbers (fx, fy, cx, cy)");
+      }
+    }
+    if (v.size() != 4) {
+      value_error("depth_intrinsics must hold 4 numbers (fx, fy, cx, cy); got " +
+                  std::to_string(v.size()));
+    }
+    camera.fx = v[0], camera.fy = v[1], camera.cx = v[2], camera.cy = v[3];
+  }
+  if (!scale.is_none()) camera.depth_scale = scale.cast<double>();
+  return camera;
+}
+
+py::array_t<double> read_point_cloud(const py::handle& path, const py::object& depth_intrinsics,
+                                     const py::object& depth_scale) {
   const std::string text = path_text(path);
+  const ppcr::io::DepthCamera camera = depth_camera(depth_intrinsics, depth_scale);
   ppcr::PointCloud cloud;
   ppcr::Status s;
   {
     py::gil_scoped_release release;
-    s = ppcr::io::read_cloud(text, &cloud);
+    s = ppcr::io::read_cloud(text, camera, &cloud);
   }
   if (!s.ok()) raise_file_error(s, text);
   return to_array(cloud);
@@ -829,11 +857,14 @@ PYBIND11_MODULE(ppcr, m) {
   m.def("register", &register_clouds, py::arg("source"), py::arg("target"), py::kw_only(),
         py::arg("initial") = py::none(), py::arg("on_iteration") = py::none(),
         register_doc().c_str());
-  m.def("read_point_cloud", &read_point_cloud, py::arg("path"),
-        "read_point_cloud(path) -> (N, 3) float64 array\n\n"
-        "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file with ppcr's readers (format by "
-        "extension, else by\n"
-        "content). Points with a non-finite coordinate are dropped. A file that cannot be read\n"
+  m.def("read_point_cloud", &read_point_cloud, py::arg("path"), py::kw_only(),
+        py::arg("depth_intrinsics") = py::none(), py::arg("depth_scale") = py::none(),
+        "read_point_cloud(path, *, depth_intrinsics=None, depth_scale=None) -> (N, 3) float64\n\n"
+        "Reads a PLY, PCD, XYZ/CSV/PTS or KITTI .bin file, or a depth image (16-bit PNG), with\n"
+        "ppcr's readers (format by extension, else by content). A depth image's pixels with\n"
+        "depth are back-projected through depth_intrinsics (fx, fy, cx, cy; pixels) and\n"
+        "depth_scale (stored value per metre); None: TUM's defaults (525, 525, 319.5, 239.5;\n"
+        "5000). Points with a non-finite coordinate are dropped. A file that cannot be read\n"
         "raises OSError (FileNotFoundError, IsADirectoryError, PermissionError...), malformed\n"
         "content or no finite point ValueError, each with the reader's message (it names the\n"
         "file and the line or byte).");

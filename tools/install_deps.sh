@@ -13,7 +13,7 @@ if [[ ${1:-} == demo || ${1:-} == all ]]; then
   shift
 fi
 packages=(cmake g++ make libeigen3-dev libnanoflann-dev libcli11-dev nlohmann-json3-dev
-          liblzf-dev pybind11-dev python3-dev python3-numpy)
+          liblzf-dev libpng-dev pybind11-dev python3-dev python3-numpy)
 if [[ $profile == all ]]; then
   packages+=(catch2 python3-pytest libbenchmark-dev python3-matplotlib clang libclang-rt-14-dev
              python3-venv python3-pip python3-setuptools python3-wheel python3-build time

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <string>
 
+#include "common/depth_camera_flags.hpp"
 #include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/result_output.hpp"
@@ -36,16 +37,19 @@ struct Arguments {
   std::string out_transform, out_cloud, trace;
   bool json = false, verbose = false, quiet = false;
   double min_fitness = 0.0;
+  ppcr::io::DepthCamera depth_camera;
   ppcr_tools::RegistrationFlags flags;
 };
 
 const char* kOutputGroup = "Input and output";
 
 void add_arguments(CLI::App& app, Arguments* a) {
-  app.add_option("SOURCE", a->source_path, "cloud to move (PLY, PCD, XYZ/CSV, KITTI .bin)")
+  app.add_option("SOURCE", a->source_path,
+                 "cloud to move (PLY, PCD, XYZ/CSV, KITTI .bin, or a depth image .png)")
       ->required();
   app.add_option("TARGET", a->target_path, "reference cloud")->required();
   ppcr_tools::add_registration_flags(app, &a->flags);
+  ppcr_tools::add_depth_camera_flags(app, &a->depth_camera);
   app.add_option("--initial", a->initial_path, "initial guess: a 4x4 rigid transform (text file)")
       ->check(ppcr_tools::non_empty())
       ->group(kOutputGroup);
@@ -87,7 +91,7 @@ int parse(int argc, char** argv, Arguments* a) {
   CLI::App app{
       "Registers SOURCE onto TARGET with Probabilistic Point Clouds Registration (PPCR) and prints "
       "the 4x4 transform mapping SOURCE into TARGET's frame. Clouds: PLY, PCD, XYZ/CSV, KITTI "
-      ".bin.",
+      ".bin; depth images: 16-bit PNG.",
       "ppcr_cli"};
   app.set_version_flag("--version", std::string("ppcr_cli ") + PPCR_VERSION_STRING);
   app.footer(
@@ -142,12 +146,13 @@ ppcr::Status check_outputs(const Arguments& a) {
   }
   // The cloud's format comes from its extension: an unknown one is bad usage, refused now rather
   // than after the registration.
+  const ppcr::io::Format out_format = ppcr::io::format_from_extension(a.out_cloud);
   if (!a.out_cloud.empty() &&
-      ppcr::io::format_from_extension(a.out_cloud) == ppcr::io::Format::kAuto) {
+      (out_format == ppcr::io::Format::kAuto || out_format == ppcr::io::Format::kDepthPng)) {
     return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
                         "--output-cloud " + a.out_cloud +
-                            ": unknown extension; expected .ply, .pcd, .xyz, .txt, .csv, .pts or "
-                            ".bin (KITTI)");
+                            ": not a cloud format to write; expected .ply, .pcd, .xyz, .txt, .csv, "
+                            ".pts or .bin (KITTI)");
   }
   return ppcr::Status::Ok();
 }
@@ -161,8 +166,11 @@ struct Inputs {
 };
 
 ppcr::Status read_inputs(const Arguments& a, Inputs* in) {
-  ppcr::Status s = ppcr::io::read_cloud(a.source_path, &in->source, &in->source_report);
-  if (s.ok()) s = ppcr::io::read_cloud(a.target_path, &in->target, &in->target_report);
+  ppcr::Status s =
+      ppcr::io::read_cloud(a.source_path, a.depth_camera, &in->source, &in->source_report);
+  if (s.ok()) {
+    s = ppcr::io::read_cloud(a.target_path, a.depth_camera, &in->target, &in->target_report);
+  }
   if (!s.ok()) return s;
   if (!a.initial_path.empty()) {
     s = ppcr::io::read_transform(a.initial_path, &in->T_initial);

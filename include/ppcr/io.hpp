@@ -1,4 +1,5 @@
-// io.hpp - ppcr_io: reading and writing point clouds (PLY, PCD, XYZ/CSV).
+// io.hpp - ppcr_io: reading and writing point clouds (PLY, PCD, XYZ/CSV, KITTI .bin; depth
+// images read as clouds).
 //
 // A separate library (target ppcr::io) so embedded users of the core can leave it out.
 // Like the core, it never throws across its API and never prints: each call returns a Status whose
@@ -18,7 +19,24 @@ inline namespace PPCR_ABI_NAMESPACE {
 namespace io {
 
 /// kKittiBin: KITTI Velodyne scans (.bin), float32 x, y, z, intensity per point, little endian.
-enum class Format { kAuto, kPly, kPcd, kXyz, kKittiBin };
+/// kDepthPng: a depth image (16-bit grayscale PNG), back-projected through a DepthCamera (read
+/// only).
+enum class Format { kAuto, kPly, kPcd, kXyz, kKittiBin, kDepthPng };
+
+/// A depth camera: pinhole intrinsics (pixels) and the depth scale (stored value per metre, or per
+/// cloud unit). A pixel (u, v) (column, row, from 0 at the top-left pixel's centre) storing d > 0
+/// is the point ((u - cx) z / fx, (v - cy) z / fy, z), z = d / depth_scale, in the camera frame
+/// (x right, y down, z forward); d = 0 is "no reading" and gives no point.
+/// The defaults are TUM RGB-D's defaults for its Kinect data (its "ROS default" intrinsics, depth
+/// stored x5000); its Freiburg 1 frames are fx 517.3, fy 516.5, cx 318.6, cy 255.3. A camera
+/// storing millimetres (Redwood, Azure Kinect, RealSense at its default) has depth_scale 1000.
+struct DepthCamera {
+  double fx = 525.0;
+  double fy = 525.0;
+  double cx = 319.5;
+  double cy = 239.5;
+  double depth_scale = 5000.0;
+};
 
 /// What a reader saw, beyond the points it returned.
 struct ReadReport {
@@ -28,13 +46,13 @@ struct ReadReport {
   std::size_t non_finite_dropped = 0;  // points with a NaN/Inf coordinate, dropped and counted
 };
 
-/// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts .bin,
+/// Reads a cloud. Format::kAuto picks by extension (.ply .pcd .xyz .txt .csv .pts .bin .png,
 /// case-insensitive) and, when the extension is unknown, by the file's first bytes ("ply" line;
-/// "# .PCD", VERSION or FIELDS; numbers). Coordinates are read as double; points with a non-finite
-/// coordinate are dropped and counted in report->non_finite_dropped. A file holding zero finite
-/// points is an error (kEmptyCloud). The file is read whole into memory first. A UTF-8
-/// byte-order mark at the start is skipped in every format. Devices (/dev/zero, /dev/urandom, a
-/// terminal) are refused (kIoError); a pipe is read up to 1 GiB, more is refused.
+/// "# .PCD", VERSION or FIELDS; the PNG signature; numbers). Coordinates are read as double; points
+/// with a non-finite coordinate are dropped and counted in report->non_finite_dropped. A file
+/// holding zero finite points is an error (kEmptyCloud). The file is read whole into memory first.
+/// A UTF-8 byte-order mark at the start is skipped in every format. Devices (/dev/zero,
+/// /dev/urandom, a terminal) are refused (kIoError); a pipe is read up to 1 GiB, more is refused.
 /// On any error *cloud is left empty; *report (if given) holds what was learnt before the error.
 ///
 /// Formats read:
@@ -56,22 +74,37 @@ struct ReadReport {
 ///  - KITTI .bin (by extension only: it has no header): records of float32 x y z intensity,
 ///    little endian; a size that is not a whole number of 16-byte records is refused (kParseError
 ///    with the size and the bytes left over). Intensity is not kept.
+///  - Depth images (.png, through libpng): 16-bit grayscale, not interlaced; each pixel with a
+///    non-zero value becomes a point, back-projected through the DepthCamera (this overload: the
+///    defaults, TUM's; the next one takes yours). Another kind of PNG (8-bit, colour, palette)
+///    is refused naming its kind; an image without any depth is kEmptyCloud. report->
+///    points_in_file counts the pixels with depth. A build without libpng refuses depth images
+///    (kIoError saying so).
 Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report = nullptr,
                   Format format = Format::kAuto);
+
+/// Like read_cloud, a depth image back-projected through `camera` (other formats ignore it). A
+/// camera field that is not finite, or an fx, fy or depth_scale not > 0, is kInvalidArgument
+/// naming the field and its value.
+Status read_cloud(const std::string& path, const DepthCamera& camera, PointCloud* cloud,
+                  ReadReport* report = nullptr);
 
 /// Like read_cloud, from `size` bytes at `data` (need not be NUL-terminated; nothing past
 /// data + size is read). `name` stands for the file in messages and, with Format::kAuto, gives
 /// the extension. size == 0 is an error (kParseError: empty file). No file is touched.
 Status read_cloud_from_buffer(const std::string& name, const char* data, std::size_t size,
-                              Format format, PointCloud* cloud, ReadReport* report = nullptr);
+                              Format format, PointCloud* cloud, ReadReport* report = nullptr,
+                              const DepthCamera& camera = DepthCamera());
 
-/// The format a path's extension names (.ply .pcd .xyz .txt .csv .pts .bin, any case), else kAuto.
+/// The format a path's extension names (.ply .pcd .xyz .txt .csv .pts .bin .png, any case), else
+/// kAuto.
 Format format_from_extension(const std::string& path);
 
 /// Writes a cloud. Format::kAuto picks by extension. PLY is written binary little endian with
 /// double x y z, PCD binary with double x y z, XYZ as ASCII text with 17 significant digits, so
 /// that every round trip is exact; KITTI .bin as float32 x y z with intensity 0 (coordinates
-/// rounded to float32; one beyond its range is refused). A cloud with a non-finite coordinate is refused
+/// rounded to float32; one beyond its range is refused). Depth images are not written
+/// (kInvalidArgument). A cloud with a non-finite coordinate is refused
 /// (kInvalidArgument: readers would drop the point); an empty cloud is written as a valid file
 /// with zero points. Write failures (cannot create, disk full...) give kIoError naming the path,
 /// and the partial file is removed.

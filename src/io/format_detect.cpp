@@ -40,6 +40,7 @@ Format format_from_extension_impl(const std::string& path) {
   if (ext == "pcd") return Format::kPcd;
   if (ext == "xyz" || ext == "txt" || ext == "csv" || ext == "pts") return Format::kXyz;
   if (ext == "bin") return Format::kKittiBin;
+  if (ext == "png") return Format::kDepthPng;
   return Format::kAuto;
 }
 
@@ -47,6 +48,7 @@ Format format_from_content(const char* data, std::size_t size) {
   const std::size_t bom = utf8_bom_size(data, size);
   const std::string_view all(data + bom, size - bom);
   if (starts_with(all, "ply\n") || starts_with(all, "ply\r\n")) return Format::kPly;
+  if (starts_with(all, "\x89PNG\r\n\x1a\n")) return Format::kDepthPng;
   LineCursor cursor(data, size < kMaxSniffBytes ? size : kMaxSniffBytes, bom);
   std::string_view line;
   bool saw_names_line = false;

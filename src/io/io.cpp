@@ -20,8 +20,22 @@ namespace {
 // read up to 1 GiB, so that a writer that never stops cannot exhaust memory.
 constexpr detail::ReadLimits kCloudLimits{UINT64_MAX, std::uint64_t{1} << 30, "a point cloud"};
 
+// Depth images need libpng; a build without it says so.
+Status read_depth_image(const detail::Input& in, const DepthCamera& camera, PointCloud* cloud,
+                        ReadReport* report) {
+#ifdef PPCR_IO_HAVE_PNG
+  return detail::read_depth_png(in, camera, cloud, report);
+#else
+  (void)camera, (void)cloud, (void)report;
+  return Status(StatusCode::kIoError,
+                in.name +
+                    ": a depth image (PNG), which this build of ppcr_io cannot read: it "
+                    "was built without libpng");
+#endif
+}
+
 Status read_buffer(const std::string& name, const char* data, std::size_t size, Format format,
-                   PointCloud* cloud, ReadReport* report) {
+                   const DepthCamera& camera, PointCloud* cloud, ReadReport* report) {
   if (size == 0) return Status(StatusCode::kParseError, name + ": file is empty (0 bytes)");
   if (data == nullptr) {
     return Status(StatusCode::kInvalidArgument,
@@ -39,13 +53,15 @@ Status read_buffer(const std::string& name, const char* data, std::size_t size, 
       return detail::read_xyz(in, cloud, report);
     case Format::kKittiBin:
       return detail::read_kitti_bin(in, cloud, report);
+    case Format::kDepthPng:
+      return read_depth_image(in, camera, cloud, report);
     case Format::kAuto:
       break;
   }
   return Status(StatusCode::kParseError,
                 name +
                     ": unknown point cloud format: the extension is not .ply .pcd .xyz .txt "
-                    ".csv .pts or .bin (KITTI), and the first bytes '" +
+                    ".csv .pts .bin (KITTI) or .png (depth), and the first bytes '" +
                     detail::escape_for_message(std::string_view(data, size), 24) +
                     "' are neither a PLY nor a PCD header nor numbers");
 }
@@ -64,6 +80,8 @@ const char* to_string(Format format) {
       return "xyz";
     case Format::kKittiBin:
       return "kitti_bin";
+    case Format::kDepthPng:
+      return "depth_png";
   }
   return "unknown";
 }
@@ -73,13 +91,14 @@ Format format_from_extension(const std::string& path) {
 }
 
 Status read_cloud_from_buffer(const std::string& name, const char* data, std::size_t size,
-                              Format format, PointCloud* cloud, ReadReport* report) {
+                              Format format, PointCloud* cloud, ReadReport* report,
+                              const DepthCamera& camera) {
   Status status = detail::guarded(name, [&]() -> Status {
     if (cloud == nullptr) {
       return Status(StatusCode::kInvalidArgument, name + ": null output cloud");
     }
     ReadReport local;
-    Status read_status = read_buffer(name, data, size, format, cloud, &local);
+    Status read_status = read_buffer(name, data, size, format, camera, cloud, &local);
     if (report != nullptr) *report = std::move(local);
     return read_status;
   });
@@ -88,7 +107,11 @@ Status read_cloud_from_buffer(const std::string& name, const char* data, std::si
   return status;
 }
 
-Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report, Format format) {
+namespace {
+
+// read_cloud with a camera for depth images.
+Status read_file(const std::string& path, Format format, const DepthCamera& camera,
+                 PointCloud* cloud, ReadReport* report) {
   Status status = detail::guarded(path, [&]() -> Status {
     if (cloud == nullptr) {
       return Status(StatusCode::kInvalidArgument, path + ": null output cloud");
@@ -98,10 +121,21 @@ Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report
     std::string bytes;
     Status file_status = detail::read_file_bytes(path, kCloudLimits, &bytes);
     if (!file_status.ok()) return file_status;
-    return read_cloud_from_buffer(path, bytes.data(), bytes.size(), format, cloud, report);
+    return read_cloud_from_buffer(path, bytes.data(), bytes.size(), format, cloud, report, camera);
   });
   if (!status.ok() && cloud != nullptr) cloud->clear();
   return status;
+}
+
+}  // namespace
+
+Status read_cloud(const std::string& path, PointCloud* cloud, ReadReport* report, Format format) {
+  return read_file(path, format, DepthCamera(), cloud, report);
+}
+
+Status read_cloud(const std::string& path, const DepthCamera& camera, PointCloud* cloud,
+                  ReadReport* report) {
+  return read_file(path, Format::kAuto, camera, cloud, report);
 }
 
 Status write_cloud(const std::string& path, const PointCloud& cloud, Format format) {
@@ -117,6 +151,11 @@ Status write_cloud(const std::string& path, const PointCloud& cloud, Format form
         return detail::write_xyz(path, cloud);
       case Format::kKittiBin:
         return detail::write_kitti_bin(path, cloud);
+      case Format::kDepthPng:
+        return Status(StatusCode::kInvalidArgument,
+                      path +
+                          ": depth images (.png) are read, not written: choose .ply, .pcd, "
+                          ".xyz, .txt, .csv, .pts or .bin");
       case Format::kAuto:
         break;
     }

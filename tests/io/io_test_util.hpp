@@ -98,4 +98,18 @@ inline ppcr::PointCloud awkward_cloud(std::size_t n, unsigned seed) {
   return cloud;
 }
 
+/// A street-like LiDAR frame: ground, two walls and a pole (14,000 points, metres).
+inline ppcr::PointCloud street_frame() {
+  ppcr::PointCloud frame;
+  for (double x = -20; x <= 20; x += 0.25) {
+    for (double y = -8; y <= 8; y += 0.25) frame.emplace_back(x, y, -1.7 + 0.01 * std::sin(x));
+    for (double z = -1.7; z <= 2; z += 0.25) {
+      frame.emplace_back(x, 8.0 + 0.3 * std::sin(0.5 * x), z);
+      frame.emplace_back(x, -8.0, z + 0.05 * x);
+    }
+  }
+  for (double z = -1.7; z <= 3; z += 0.1) frame.emplace_back(5.0, 2.0, z);
+  return frame;
+}
+
 }  // namespace io_test

@@ -89,16 +89,8 @@ TEST_CASE("KITTI .bin: written as float32 records with intensity 0, read back", 
 }
 
 TEST_CASE("KITTI .bin: a frame registers against a moved copy of itself", "[io][kitti]") {
-  // A street-like frame: ground, two walls and a pole, read from a .bin as a user's frame comes.
-  PointCloud frame;
-  for (double x = -20; x <= 20; x += 0.25) {
-    for (double y = -8; y <= 8; y += 0.25) frame.emplace_back(x, y, -1.7 + 0.01 * std::sin(x));
-    for (double z = -1.7; z <= 2; z += 0.25) {
-      frame.emplace_back(x, 8.0 + 0.3 * std::sin(0.5 * x), z);
-      frame.emplace_back(x, -8.0, z + 0.05 * x);
-    }
-  }
-  for (double z = -1.7; z <= 3; z += 0.1) frame.emplace_back(5.0, 2.0, z);
+  // A street-like frame, read from a .bin as a user's frame comes.
+  const PointCloud frame = io_test::street_frame();
   io_test::TempDir dir;
   REQUIRE(ppcr::io::write_cloud(dir.file("000000.bin"), frame).ok());
   PointCloud target;

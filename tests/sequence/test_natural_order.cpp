@@ -79,3 +79,31 @@ TEST_CASE("a folder lists the scans of its most common format in natural order, 
                                           (kitti / "000002.bin").string(),
                                           (kitti / "000010.bin").string()});
 }
+
+TEST_CASE("a TUM RGB-D folder's scans are its depth images, their names their times") {
+  const std::filesystem::path dir = std::filesystem::path(PPCR_SEQUENCE_TEST_DIR) / "tum_folder";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "depth");
+  std::filesystem::create_directories(dir / "rgb");
+  for (const char* name : {"groundtruth.txt", "depth.txt", "rgb.txt", "rgb/1305031229.5.png"}) {
+    std::ofstream(dir / name) << "x";
+  }
+  for (const char* name : {"1305031229.564442.png", "1305031229.528784.png", "1305031230.1.png"}) {
+    std::ofstream(dir / "depth" / name) << "x";
+  }
+  std::vector<std::string> scans;
+  REQUIRE(ppcr_odometry::list_scans({dir.string()}, &scans).ok());
+  CHECK(scans == std::vector<std::string>{(dir / "depth/1305031229.528784.png").string(),
+                                          (dir / "depth/1305031229.564442.png").string(),
+                                          (dir / "depth/1305031230.1.png").string()});
+  std::vector<double> times;
+  REQUIRE(ppcr_odometry::times_from_names(scans, &times));
+  CHECK(times == std::vector<double>{1305031229.528784, 1305031229.564442, 1305031230.1});
+  // Names that are not all times give none: KITTI's numbers, a name without digits after the point.
+  for (const auto& names : {std::vector<std::string>{"a/000000.bin", "a/000001.bin"},
+                            std::vector<std::string>{"1305031229.5.png", "scan_1.5.png"},
+                            std::vector<std::string>{"1305031229..png"}}) {
+    CHECK_FALSE(ppcr_odometry::times_from_names(names, &times));
+    CHECK(times.empty());
+  }
+}

@@ -96,7 +96,12 @@ TEST_CASE("a rotation error per step gives RPE rotation = angle / step length") 
   ppcr_odometry::TrajectoryErrors e;
   REQUIRE(ppcr_odometry::trajectory_errors(truth, estimate, 1, &e).ok());
   CHECK(e.rpe_rotation == Approx(0.01).epsilon(1e-9));
+  CHECK(e.rpe_rotation_per_step == Approx(0.01).epsilon(1e-9));
   CHECK(e.rpe_translation == Approx(0.0).margin(1e-12));
+  // Over steps of 2 scans: twice the angle per step, the same per metre.
+  REQUIRE(ppcr_odometry::trajectory_errors(truth, estimate, 2, &e).ok());
+  CHECK(e.rpe_rotation_per_step == Approx(0.02).epsilon(1e-9));
+  CHECK(e.rpe_rotation == Approx(0.01).epsilon(1e-9));
 }
 
 TEST_CASE("too few poses, or a truth that does not move, are refused") {

@@ -12,34 +12,14 @@
 #include <sstream>
 #include <string>
 
+#include "tools/cli_run.hpp"
+
 namespace {
 
-// One folder per process: ctest runs the test cases in parallel.
-const std::string kDir = std::string(PPCR_CLI_TEST_DIR) + "/" + std::to_string(getpid());
-
-struct Run {
-  int status;
-  std::string out, err;
-};
-
-std::string read_text(const std::string& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-// Runs ppcr_cli with `arguments`; stdout goes to `stdout_to` (a path), stderr is kept.
-Run run_cli(const std::string& arguments, const std::string& stdout_to = kDir + "/out.txt") {
-  std::filesystem::create_directories(kDir);
-  const std::string err = kDir + "/err.txt";
-  const std::string command = std::string("'") + PPCR_CLI_EXE + "' " + arguments + " > '" +
-                              stdout_to + "' 2> '" + err + "'";
-  const int status = std::system(command.c_str());
-  Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, "", read_text(err)};
-  if (stdout_to != "/dev/full") r.out = read_text(stdout_to);
-  return r;
-}
+using cli_test::kDir;
+using cli_test::read_text;
+using cli_test::Run;
+using cli_test::run_cli;
 
 // A wavy surface and the same surface moved a little, as .xyz text (one NaN row in the source).
 void write_pair() {
@@ -125,13 +105,15 @@ TEST_CASE("ppcr_cli: an output path that cannot be written fails before the regi
 TEST_CASE("ppcr_cli: an output cloud of unknown format is refused before the registration",
           "[cli]") {
   write_pair();
-  const std::string path = kDir + "/aligned.las";
-  const Run r = run_cli(pair_args() + " --verbose --output-cloud '" + path + "'");
-  INFO(r.err);
-  CHECK(r.status == 2);
-  CHECK(contains(r.err, "--output-cloud " + path + ": unknown extension"));
-  CHECK_FALSE(contains(r.err, "iter "));   // no iteration ran
-  CHECK(access(path.c_str(), F_OK) != 0);  // and no file left
+  for (const char* name : {"/aligned.las", "/aligned.png"}) {  // .png: read, never written
+    const std::string path = kDir + name;
+    const Run r = run_cli(pair_args() + " --verbose --output-cloud '" + path + "'");
+    INFO(r.err);
+    CHECK(r.status == 2);
+    CHECK(contains(r.err, "--output-cloud " + path + ": not a cloud format to write"));
+    CHECK_FALSE(contains(r.err, "iter "));   // no iteration ran
+    CHECK(access(path.c_str(), F_OK) != 0);  // and no file left
+  }
 }
 
 TEST_CASE("ppcr_cli: empty, negative and oversized values are refused with the flag", "[cli]") {

@@ -44,9 +44,21 @@ void on_off(CLI::App& app, const std::string& flag, bool* target, const std::str
       ->group(kExpertGroup);
 }
 
-// --help without CLI11's value of a negated flag ("--x,--no-x{false}"): the text says it.
+// --help without CLI11's value of a negated flag ("--x,--no-x{false}"): the text says it; and
+// without its count of an option's values where the value names already say it
+// ("FX FY CX CY x 4").
 class HelpFormatter : public CLI::Formatter {
  public:
+  std::string make_option_opts(const CLI::Option* option) const override {
+    std::string opts = CLI::Formatter::make_option_opts(option);
+    const std::string count = " x " + std::to_string(option->get_expected_min());
+    if (option->get_type_name().find(' ') != std::string::npos) {
+      const std::size_t at = opts.find(count);
+      if (at != std::string::npos) opts.erase(at, count.size());
+    }
+    return opts;
+  }
+
   std::string make_option_name(const CLI::Option* option, bool positional) const override {
     std::string name = CLI::Formatter::make_option_name(option, positional);
     for (std::size_t open = name.find('{'); open != std::string::npos; open = name.find('{')) {

@@ -12,8 +12,8 @@ namespace ppcr_odometry {
 namespace {
 
 ppcr::Status read_scan(const std::vector<std::string>& scans, std::size_t k,
-                       ppcr::PointCloud* cloud) {
-  const ppcr::Status s = ppcr::io::read_cloud(scans[k], cloud);
+                       const ppcr::io::DepthCamera& camera, ppcr::PointCloud* cloud) {
+  const ppcr::Status s = ppcr::io::read_cloud(scans[k], camera, cloud);
   if (s.ok()) return s;
   return ppcr::Status(
       s.code(), "scan " + std::to_string(k) + " (" + scans[k] + ") cannot be read: " + s.message());
@@ -58,7 +58,7 @@ ppcr::Status run_odometry(const std::vector<std::string>& scans, const OdometryS
   LocalMap map(settings.local_map);
   map.set_voxel(settings.map_voxel);
   ppcr::PointCloud scan;
-  ppcr::Status s = read_scan(scans, 0, &scan);
+  ppcr::Status s = read_scan(scans, 0, settings.depth_camera, &scan);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();    // T_first_k
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();  // T_{k-1}_k: the last relative motion
   if (s.ok()) s = trajectory->append(settings.times[0], pose);
@@ -66,7 +66,7 @@ ppcr::Status run_odometry(const std::vector<std::string>& scans, const OdometryS
   for (std::size_t k = 1; s.ok() && k < scans.size(); ++k) {
     summary->registered = k;
     progress.update(k);
-    s = read_scan(scans, k, &scan);
+    s = read_scan(scans, k, settings.depth_camera, &scan);
     if (!s.ok()) break;
     double time_ms = 0.0;
     // Constant velocity: the guess for this motion is the previous one.

@@ -9,6 +9,7 @@
 #include "odometry/pair_log.hpp"
 #include "odometry/pair_registrar.hpp"
 #include "odometry/trajectory_writer.hpp"
+#include "ppcr/io.hpp"
 #include "ppcr/status.hpp"
 
 namespace ppcr_odometry {
@@ -17,6 +18,7 @@ struct OdometrySettings {
   std::size_t local_map = 1;  // N: scans merged into the target (1 = the previous scan)
   double map_voxel = 0.0;     // the local map's leaf; 0 = the target's spacing (ppcr's measure)
   std::vector<double> times;  // time of each scan, seconds (TUM's first column)
+  ppcr::io::DepthCamera depth_camera;  // how depth images (.png) become clouds
   bool quiet = false;
 };
 

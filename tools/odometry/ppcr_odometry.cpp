@@ -7,13 +7,14 @@
 //   ppcr_odometry --evaluate GROUND_TRUTH ESTIMATE [--rpe-delta D]
 //
 // SCAN...: cloud files in the order given, or folders (their cloud files in natural order:
-// scan_2 before scan_10). Scan k (k >= 1) is registered onto the local map of the last N scans
-// (merged in scan k-1's frame and voxel-filtered; N = 5 by default, 1 with a peer method; with
-// N = 1, scan k-1 itself) from the constant-velocity guess
-// (the motion found between scans k-2 and k-1), and its pose T_0k = T_0(k-1) T_(k-1)k is written
-// at once, one complete line per scan, to the KITTI and TUM files; one row per pair goes to the
-// CSV. Exit 0 on success; 1 when a scan cannot be read or registered (the message names it; the
-// files hold the poses of the scans before it) or an output cannot be written; 2 for bad usage.
+// scan_2 before scan_10; a TUM RGB-D folder's depth/ images). Depth images (.png) are
+// back-projected through --depth-intrinsics and --depth-scale. Scan k (k >= 1) is registered onto
+// the local map of the last N scans (merged in scan k-1's frame and voxel-filtered; N = 5 by
+// default, 1 with a peer method; with N = 1, scan k-1 itself) from the constant-velocity guess (the
+// motion found between scans k-2 and k-1), and its pose T_0k = T_0(k-1) T_(k-1)k is written at
+// once, one complete line per scan, to the KITTI and TUM files; one row per pair goes to the CSV.
+// Exit 0 on success; 1 when a scan cannot be read or registered (the message names it; the files
+// hold the poses of the scans before it) or an output cannot be written; 2 for bad usage.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "common/depth_camera_flags.hpp"
 #include "common/openmp_environment.hpp"
 #include "common/registration_flags.hpp"
 #include "common/usage_error.hpp"
@@ -54,7 +56,8 @@ struct Arguments {
   std::vector<std::string> evaluate;
   int local_map = kDefaultLocalMap, rpe_delta = 1;
   double map_voxel = 0.0, rate = 10.0;
-  bool quiet = false;
+  bool quiet = false, rate_given = false;
+  ppcr::io::DepthCamera depth_camera;
   ppcr_tools::RegistrationFlags flags;
 };
 
@@ -84,7 +87,9 @@ void add_arguments(CLI::App& app, Arguments* a) {
   app.add_option("--pairs", a->pairs, "write the per-pair quality CSV here")
       ->check(ppcr_tools::non_empty())
       ->group(kOutputGroup);
-  auto* rate = app.add_option("--rate", a->rate, "scans per second: TUM time = scan index / rate")
+  auto* rate = app.add_option("--rate", a->rate,
+                              "scans per second: TUM time = scan index / rate (default 10, unless "
+                              "every scan's name is its time, as TUM's 1305031229.528784.png)")
                    ->check(CLI::PositiveNumber)
                    ->group(kOutputGroup);
   app.add_option("--timestamps", a->timestamps,
@@ -104,9 +109,11 @@ void add_arguments(CLI::App& app, Arguments* a) {
       ->check(CLI::Range(1, 1000000))
       ->group("Evaluation");
   ppcr_tools::add_registration_flags(app, &a->flags);
+  ppcr_tools::add_depth_camera_flags(app, &a->depth_camera);
 }
 
-// Prints "poses N ate_rmse A rpe_percent P rpe_deg_per_m R distance D" on stdout.
+// Prints "poses N ate_rmse A rpe_percent P rpe_deg_per_m R distance D rpe_deg_per_step S" on
+// stdout.
 int evaluate(const Arguments& a) {
   ppcr_odometry::Trajectory truth, estimate;
   ppcr::Status s = ppcr_odometry::read_trajectory(a.evaluate[0], &truth);
@@ -135,15 +142,25 @@ int evaluate(const Arguments& a) {
   ppcr_odometry::TrajectoryErrors errors;
   s = ppcr_odometry::trajectory_errors(truth_poses, estimate_poses, a.rpe_delta, &errors);
   if (!s.ok()) return fail(1, s.message());
-  std::printf("poses %zu ate_rmse %.6g rpe_percent %.6g rpe_deg_per_m %.6g distance %.6g\n",
-              errors.poses, errors.ate_rmse, 100.0 * errors.rpe_translation,
-              errors.rpe_rotation * 180.0 / kPi, errors.distance);
+  std::printf(
+      "poses %zu ate_rmse %.6g rpe_percent %.6g rpe_deg_per_m %.6g distance %.6g "
+      "rpe_deg_per_step %.6g\n",
+      errors.poses, errors.ate_rmse, 100.0 * errors.rpe_translation,
+      errors.rpe_rotation * 180.0 / kPi, errors.distance,
+      errors.rpe_rotation_per_step * 180.0 / kPi);
   return 0;
 }
 
-// The time of each scan: index / rate, or the --timestamps file's numbers.
-ppcr::Status scan_times(const Arguments& a, std::size_t count, std::vector<double>* times) {
+// The time of each scan: the --timestamps file's numbers; else the scans' names when they are
+// times (TUM) and --rate is not given; else index / rate.
+ppcr::Status scan_times(const Arguments& a, const std::vector<std::string>& scans,
+                        std::vector<double>* times) {
+  const std::size_t count = scans.size();
   times->clear();
+  if (a.timestamps.empty() && !a.rate_given && ppcr_odometry::times_from_names(scans, times)) {
+    if (!a.quiet) std::fprintf(stderr, "ppcr_odometry: times from the scans' names\n");
+    return ppcr::Status::Ok();
+  }
   if (a.timestamps.empty()) {
     for (std::size_t i = 0; i < count; ++i) times->push_back(static_cast<double>(i) / a.rate);
     return ppcr::Status::Ok();
@@ -203,7 +220,8 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
   settings.local_map = static_cast<std::size_t>(a.local_map);
   settings.map_voxel = a.map_voxel;
   settings.quiet = a.quiet;
-  s = scan_times(a, scans.size(), &settings.times);
+  settings.depth_camera = a.depth_camera;
+  s = scan_times(a, scans, &settings.times);
   if (!s.ok()) return fail(2, s.message());
   std::unique_ptr<ppcr_odometry::PairRegistrar> registrar;
   s = make_registrar(a, options, &registrar);
@@ -259,6 +277,7 @@ int main(int argc, char** argv) {
     return fail(2, ppcr_tools::usage_error(app, e, argc, argv) + " (see --help)");
   }
   if (!a.evaluate.empty()) return evaluate(a);
+  a.rate_given = app.get_option("--rate")->count() > 0;
   if (app.get_option("--local-map")->count() == 0 && a.method != "ppcr") a.local_map = 1;
   if (a.kitti.empty() && a.tum.empty()) {
     return fail(2, "no output: give --kitti and/or --tum (see --help)");

@@ -54,7 +54,7 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
   if (names.empty()) {
     return ppcr::Status(
         ppcr::StatusCode::kIoError,
-        folder + ": no cloud file (.ply .pcd .xyz .txt .csv .pts .bin) in the folder");
+        folder + ": no cloud file (.ply .pcd .xyz .txt .csv .pts .bin .png) in the folder");
   }
   std::sort(names.begin(), names.end(), natural_less);
   std::vector<std::string> others;
@@ -71,7 +71,31 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
   return ppcr::Status::Ok();
 }
 
+// A TUM RGB-D folder (depth/ beside rgb/, groundtruth.txt...): its depth images are the scans.
+bool is_tum_rgbd_folder(const std::string& folder) {
+  std::error_code error;
+  return std::filesystem::is_directory(std::filesystem::path(folder) / "depth", error);
+}
+
 }  // namespace
+
+bool times_from_names(const std::vector<std::string>& scans, std::vector<double>* times) {
+  times->clear();
+  for (const std::string& scan : scans) {
+    const std::string stem = std::filesystem::path(scan).stem().string();
+    const std::size_t point = stem.find('.');
+    const auto digits = [&](std::size_t from, std::size_t to) {
+      return to > from && std::all_of(stem.begin() + from, stem.begin() + to,
+                                      [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (point == std::string::npos || !digits(0, point) || !digits(point + 1, stem.size())) {
+      times->clear();
+      return false;
+    }
+    times->push_back(std::stod(stem));
+  }
+  return !times->empty();
+}
 
 ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std::string>* scans,
                         std::vector<std::string>* skipped) {
@@ -80,7 +104,9 @@ ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std:
   for (const std::string& input : inputs) {
     std::error_code error;
     if (std::filesystem::is_directory(input, error)) {
-      const ppcr::Status s = list_folder(input, scans, skipped);
+      const bool tum = is_tum_rgbd_folder(input);
+      const ppcr::Status s = list_folder(
+          tum ? (std::filesystem::path(input) / "depth").string() : input, scans, skipped);
       if (!s.ok()) return s;
     } else {
       scans->push_back(input);

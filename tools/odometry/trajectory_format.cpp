@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -13,9 +14,14 @@ namespace {
 constexpr double kTolerance = 1e-4;
 constexpr double kExact = 1e-12;  // below this a rotation is kept as read
 
+// The shortest of 15-17 significant digits that reads back as `value`: exact, and a timestamp
+// read from "1305031229.564442" is written as such.
 void append(std::string* line, double value) {
   char text[32];
-  std::snprintf(text, sizeof(text), "%.17g", value);
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
   if (!line->empty()) *line += ' ';
   *line += text;
 }

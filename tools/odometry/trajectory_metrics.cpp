@@ -57,6 +57,7 @@ ppcr::Status trajectory_errors(const std::vector<Eigen::Isometry3d>& truth,
   }
   errors->rpe_translation = translation / errors->distance;
   errors->rpe_rotation = rotation / errors->distance;
+  errors->rpe_rotation_per_step = rotation / static_cast<double>(n - step);
   return ppcr::Status::Ok();
 }
 

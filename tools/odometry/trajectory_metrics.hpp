@@ -11,8 +11,10 @@
 // normalised by the distance travelled: rpe_translation = sum_i |t(E_i)| / sum_i
 // |t(G_i^-1 G_{i+delta})| (a fraction; x 100 = the drift in % of distance, comparable to KITTI's
 // translational error) and rpe_rotation = sum_i angle(E_i) / the same distance (radians per
-// metre). Sums, not means of ratios, so that near-zero motions (a pause) do not blow it up; no
-// alignment is needed, relative motions are frame-free.
+// metre); rpe_rotation_per_step = the mean angle(E_i) (radians per step of delta scans: the
+// figure for a camera that mostly turns, whose path is short). Sums, not means of ratios, so that
+// near-zero motions (a pause) do not blow it up; no alignment is needed, relative motions are
+// frame-free.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -27,6 +29,7 @@ struct TrajectoryErrors {
   double ate_rmse = 0.0;         // metres
   double rpe_translation = 0.0;  // fraction of the distance travelled
   double rpe_rotation = 0.0;     // radians per metre
+  double rpe_rotation_per_step = 0.0;  // radians per step of delta scans
   double distance = 0.0;         // the true path length over the steps, metres
   Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();  // maps estimate into truth
 };
