@@ -287,9 +287,11 @@ const std::vector<Option>& options_table() {
            "'plane' (the error along the surfaces' normals) or 'point' (the paper's)"),
       value("dof", &R::dof, "Student-t degrees of freedom (> 0)"),
       value("source_voxel", &R::source_voxel,
-            "voxel-grid leaf for the source, cloud units (>= 0; 0 = no filter)"),
+            "voxel-grid leaf for the source, cloud units (>= 0; 0 = no filter; "
+            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about 10000 points)"),
       value("target_voxel", &R::target_voxel,
-            "voxel-grid leaf for the target, cloud units (>= 0; 0 = no filter)"),
+            "voxel-grid leaf for the target, cloud units (>= 0; 0 = no filter; "
+            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about 10000 points)"),
       criteria_option(),
       value("max_iterations", &R::max_iterations,
             "hard cap on outer iterations, whatever the criteria (>= 1)"),
@@ -415,6 +417,7 @@ struct Result {
   double target_surface_noise = 0.0;
   double target_spacing = 0.0;
   double radius = 0.0;
+  double source_voxel = 0.0, target_voxel = 0.0;
   py::array_t<double> information;  // 6x6
   int degenerate_directions = -1;
   double fitness = 0.0;
@@ -519,6 +522,8 @@ Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   out.target_surface_noise = r.target_surface_noise;
   out.target_spacing = r.target_spacing;
   out.radius = r.radius;
+  out.source_voxel = r.source_voxel;
+  out.target_voxel = r.target_voxel;
   out.information = to_array(r.information);
   out.degenerate_directions = r.degenerate_directions;
   out.fitness = r.fitness;
@@ -650,7 +655,13 @@ ppcr::io::DepthCamera depth_camera(const py::object& intrinsics, const py::objec
     }
     camera.fx = v[0], camera.fy = v[1], camera.cx = v[2], camera.cy = v[3];
   }
-  if (!scale.is_none()) camera.depth_scale = scale.cast<double>();
+  if (!scale.is_none()) {
+    if (py::isinstance<py::bool_>(scale) ||
+        !(py::isinstance<py::float_>(scale) || py::isinstance<py::int_>(scale))) {
+      throw py::type_error("depth_scale must be a number (stored value per metre)");
+    }
+    camera.depth_scale = scale.cast<double>();
+  }
   return camera;
 }
 
@@ -782,6 +793,7 @@ PYBIND11_MODULE(ppcr, m) {
       "register(source, target, radius=..., ...) aligns two (N, 3) numpy clouds;\n"
       "read_point_cloud(path) reads PLY, PCD, XYZ/CSV/PTS and KITTI .bin files.";
   m.attr("__version__") = PPCR_VERSION_STRING;
+  m.attr("AUTOMATIC_VOXEL") = ppcr::RegistrationOptions::kAutomaticVoxel;
 
   py::class_<Result>(m, "Result", "What register() returns (ppcr::RegistrationResult).")
       .def_readonly("transformation", &Result::transformation,
@@ -821,6 +833,10 @@ PYBIND11_MODULE(ppcr, m) {
                     "the target's median point spacing, cloud units")
       .def_readonly("radius", &Result::radius,
                     "the association radius used, cloud units (the option, or the automatic one)")
+      .def_readonly("source_voxel", &Result::source_voxel,
+                    "the source's voxel leaf used, cloud units (0: not filtered)")
+      .def_readonly("target_voxel", &Result::target_voxel,
+                    "the target's voxel leaf used, cloud units (0: not filtered)")
       .def_readonly("information", &Result::information,
                     "6x6 Gauss-Newton information at the final pose")
       .def_readonly("degenerate_directions", &Result::degenerate_directions,

@@ -5,6 +5,7 @@
 // docs/PERFORMANCE.md). validate() checks both and names the field and the value it refuses.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 
@@ -128,8 +129,13 @@ struct RegistrationOptions {
   ErrorModel error_model = ErrorModel::kPlane;
   double dof = 1.25;          // Student-t degrees of freedom nu (finite, > 0; authors: 5); as nu
                               // grows the weights tend to kGaussian's (to 1e-9 from about 1e12)
-  double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0; 0 = no filter)
-  double target_voxel = 0.0;  // voxel-grid leaf for the target (>= 0; 0 = no filter)
+  /// source_voxel or target_voxel = kAutomaticVoxel: that cloud's leaf is chosen from the cloud,
+  /// the one that leaves about kAutomaticVoxelPoints points (within 15 %; a smaller cloud is not
+  /// filtered); the leaves used are RegistrationResult::source_voxel and target_voxel.
+  static constexpr double kAutomaticVoxel = -1.0;
+  static constexpr std::size_t kAutomaticVoxelPoints = 10000;
+  double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0, or automatic; 0 = none)
+  double target_voxel = 0.0;  // voxel-grid leaf for the target (>= 0, or automatic; 0 = none)
   std::uint32_t criteria = kCriterionCostDrop;  // bitwise OR of Criterion
   int max_iterations = 100;    // hard cap on outer iterations, whatever the criteria (>= 1)
   int num_threads = 1;         // threads, [1, 1024]; the result does not depend on it

@@ -100,6 +100,10 @@ struct RegistrationResult {
   double target_spacing = 0.0;
   /// The association radius used, cloud units: RegistrationOptions::radius, or the automatic one.
   double radius = 0.0;
+  /// The voxel leaves used, cloud units (0: that cloud was not filtered): the options' leaves, or
+  /// the ones chosen for RegistrationOptions::kAutomaticVoxel.
+  double source_voxel = 0.0;
+  double target_voxel = 0.0;
   /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
   /// left about the target's per-axis median point, in the target's axes.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();

@@ -52,7 +52,7 @@ def test_nan_only_and_empty_clouds_refused_by_the_library(which):
     (dict(radius=float("nan")), "radius must be > 0, or 0 for automatic, got nan"),
     (dict(max_neighbours=0), "max_neighbours must be in [1, 1024], got 0"),
     (dict(dof=0), "dof must be > 0, got 0"),
-    (dict(source_voxel=-0.5), "source_voxel must be >= 0, got -0.5"),
+    (dict(source_voxel=-0.5), "source_voxel must be >= 0 or kAutomaticVoxel (-1), got -0.5"),
     (dict(num_threads=0), "num_threads must be in [1, 1024], got 0"),
     (dict(plane_epsilon=2), "expert.plane_epsilon must be in (0, 1], got 2"),
     (dict(normal_neighbours=3), "expert.normal_neighbours must be in [5, 64], got 3"),

@@ -46,6 +46,9 @@ def test_depth_camera_arguments_checked(depth_frame):
         ppcr.read_point_cloud(depth_frame, depth_intrinsics=(-1, 516.5, 318.6, 255.3))
     with pytest.raises(ValueError, match="depth_scale = 0"):
         ppcr.read_point_cloud(depth_frame, depth_scale=0)
+    for wrong in ("1000", True):
+        with pytest.raises(TypeError, match="depth_scale"):
+            ppcr.read_point_cloud(depth_frame, depth_scale=wrong)
 
 
 def test_depth_frame_registers_against_a_moved_copy(depth_frame):
@@ -74,3 +77,20 @@ def test_kitti_frame_registers_against_a_moved_copy(tmp_path):
     assert r.status == "ok"
     assert rotation_error_deg(r.transformation, T) < 1e-4
     assert np.linalg.norm(r.transformation[:3, 3] - T[:3, 3]) < 1e-4
+
+
+def test_automatic_leaf_reported(tmp_path):
+    # A 14,000-point street frame: the automatic leaf keeps about 10,000 points of each cloud
+    # and reports the leaves; 0 (the default) filters nothing.
+    xs = np.arange(-20, 20.01, 0.25)
+    frame = np.array([[x, y, -1.7 + 0.01 * np.sin(x)] for x in xs for y in np.arange(-8, 8.01, 0.25)]
+                     + [[x, 8 + 0.3 * np.sin(0.5 * x), z] for x in xs for z in np.arange(-1.7, 2.01, 0.25)])
+    T = rigid(rotation([0.1, 0.2, 1.0], 2.0), [0.3, -0.2, 0.05])
+    source = transform(np.linalg.inv(T), frame)
+    auto = ppcr.register(source, frame, radius=1.0, source_voxel=ppcr.AUTOMATIC_VOXEL,
+                         target_voxel=ppcr.AUTOMATIC_VOXEL)
+    assert auto.status == "ok" and auto.source_voxel > 0 and auto.target_voxel > 0
+    assert abs(auto.source_points / 10000 - 1) <= 0.15
+    assert rotation_error_deg(auto.transformation, T) < 0.05
+    plain = ppcr.register(source, frame, radius=1.0)
+    assert plain.source_voxel == 0 and plain.source_points > 12000  # unfiltered

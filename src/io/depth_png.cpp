@@ -65,22 +65,35 @@ std::string unsupported_type(int bit_depth, int color_type, int interlace) {
                          : color_type == PNG_COLOR_TYPE_PALETTE    ? "palette"
                          : color_type == PNG_COLOR_TYPE_RGB        ? "RGB"
                                                                    : "RGBA";
+    const bool grayscale =
+        color_type == PNG_COLOR_TYPE_GRAY || color_type == PNG_COLOR_TYPE_GRAY_ALPHA;
     return "a depth image must be a 16-bit grayscale PNG; this one is " +
-           std::to_string(bit_depth) + "-bit " + colour + " (a colour image?)";
+           std::to_string(bit_depth) + "-bit " + colour + (grayscale ? "" : " (a colour image?)");
   }
   if (interlace != PNG_INTERLACE_NONE) return "interlaced (Adam7) depth images are not read";
   return std::string();
 }
 
-// Decodes `source` row by row into *cloud. Returns false with source->message set on a libpng
-// error, or with *type_error set for an image that is not a depth image.
-bool decode(PngSource* source, const DepthCamera& camera, PointCloud* cloud,
+// The most pixels read (32 Mpx, four times a 4K depth map): deflate packs a constant row about
+// 1000:1, so without a bound a file of a few MB could ask for billions of points.
+constexpr std::uint64_t kMaxPixels = std::uint64_t{1} << 25;
+
+// Decodes `source` row by row into `sink`. Returns false with source->message set on a libpng
+// error, or with *type_error set for an image that is not a depth image we read.
+bool decode(PngSource* source, const DepthCamera& camera, PointSink* sink,
             std::vector<unsigned char>* row, std::string* type_error, std::uint64_t* pixels) {
   PngGuard guard;
   guard.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, source, on_error, on_warning);
-  if (guard.png == nullptr) return std::snprintf(source->message, 64, "out of memory"), false;
+  if (guard.png == nullptr) {
+    std::snprintf(source->message, sizeof source->message,
+                  "libpng could not start (out of memory, or another libpng version)");
+    return false;
+  }
   guard.info = png_create_info_struct(guard.png);
-  if (guard.info == nullptr) return std::snprintf(source->message, 64, "out of memory"), false;
+  if (guard.info == nullptr) {
+    std::snprintf(source->message, sizeof source->message, "out of memory");
+    return false;
+  }
   if (setjmp(png_jmpbuf(guard.png))) return false;  // on_error wrote the message
   png_set_read_fn(guard.png, source, read_bytes);
   png_read_info(guard.png, guard.info);
@@ -89,8 +102,12 @@ bool decode(PngSource* source, const DepthCamera& camera, PointCloud* cloud,
   png_get_IHDR(guard.png, guard.info, &width, &height, &bit_depth, &color_type, &interlace, nullptr,
                nullptr);
   *type_error = unsupported_type(bit_depth, color_type, interlace);
-  if (!type_error->empty()) return false;
   *pixels = std::uint64_t{width} * height;
+  if (type_error->empty() && *pixels > kMaxPixels) {
+    *type_error = std::to_string(width) + " x " + std::to_string(height) +
+                  " pixels: more than the 2^25 a depth image may have";
+  }
+  if (!type_error->empty()) return false;
   row->resize(png_get_rowbytes(guard.png, guard.info));
   for (png_uint_32 v = 0; v < height; ++v) {
     png_read_row(guard.png, row->data(), nullptr);
@@ -100,7 +117,7 @@ bool decode(PngSource* source, const DepthCamera& camera, PointCloud* cloud,
       const unsigned d = (unsigned{(*row)[2 * u]} << 8) | (*row)[2 * u + 1];
       if (d == 0) continue;
       const double z = d / camera.depth_scale;
-      cloud->emplace_back((u - camera.cx) / camera.fx * z, y_per_z * z, z);
+      sink->add((u - camera.cx) / camera.fx * z, y_per_z * z, z);
     }
   }
   png_read_end(guard.png, nullptr);  // checks the remaining chunks' CRCs
@@ -125,8 +142,10 @@ Status check_depth_camera(const std::string& name, const DepthCamera& camera) {
                 {"depth_scale", camera.depth_scale, true}};
   for (const auto& f : fields) {
     if (!std::isfinite(f.value) || (f.positive && !(f.value > 0.0))) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%.17g", f.value);
       return Status(StatusCode::kInvalidArgument,
-                    name + ": depth camera " + f.field + " = " + std::to_string(f.value) +
+                    name + ": depth camera " + f.field + " = " + value +
                         (f.positive ? " (must be finite and > 0)" : " (must be finite)"));
     }
   }
@@ -147,17 +166,18 @@ Status read_depth_png(const Input& in, const DepthCamera& camera, PointCloud* cl
   std::vector<unsigned char> row;
   std::string type_error;
   std::uint64_t pixels = 0;
-  if (!decode(&source, camera, cloud, &row, &type_error, &pixels)) {
+  PointSink sink(cloud);  // a camera of extreme values can make a point infinite: dropped
+  if (!decode(&source, camera, &sink, &row, &type_error, &pixels)) {
     cloud->clear();
     return parse_error(in, type_error.empty() ? std::string("PNG: ") + source.message : type_error);
   }
-  report->points_in_file = cloud->size();
-  if (cloud->empty()) {
+  if (cloud->empty() && sink.non_finite() == 0) {
     return Status(StatusCode::kEmptyCloud, in.name + ": the depth image's " +
                                                std::to_string(pixels) +
                                                " pixels all read 0 (no depth)");
   }
-  return Status::Ok();
+  // Points: the pixels with depth; infinite ones (a camera of extreme values) dropped, counted.
+  return finish_read(in, cloud->size() + sink.non_finite(), sink, *cloud, report);
 }
 
 }  // namespace detail

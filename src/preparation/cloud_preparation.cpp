@@ -7,7 +7,9 @@
 #include <string>
 
 #include "common/format.hpp"
+#include "ppcr/options.hpp"
 #include "ppcr/voxel.hpp"
+#include "preparation/automatic_voxel.hpp"
 
 namespace ppcr {
 inline namespace PPCR_ABI_NAMESPACE {
@@ -104,9 +106,13 @@ Status prepare_cloud(const PointCloud& in, double voxel, double radius, double u
     if (p.allFinite()) points.push_back(p);
   }
   out->dropped = in.size() - points.size();
-  if (voxel > 0.0 && !points.empty()) {
+  out->leaf = voxel > 0.0 ? voxel : 0.0;
+  if (voxel != 0.0 && !points.empty()) {
     PointCloud filtered;
-    Status s = voxel_downsample(points, voxel, &filtered);
+    Status s = voxel == RegistrationOptions::kAutomaticVoxel
+                   ? automatic_voxel_filter(points, RegistrationOptions::kAutomaticVoxelPoints,
+                                            &filtered, &out->leaf)
+                   : voxel_downsample(points, voxel, &filtered);
     if (!s.ok())
       return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
     points = std::move(filtered);

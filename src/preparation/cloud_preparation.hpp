@@ -32,6 +32,7 @@ struct PreparedCloud {
   double extent = 0.0;         // max |p - origin| per axis over the kept points, cloud units
   std::size_t dropped = 0;     // non-finite, or too far from the origin for a finite squared norm
   std::size_t duplicates = 0;  // copies of a kept point removed (spatial_order.hpp)
+  double leaf = 0.0;           // the voxel leaf used, cloud units (0: not filtered)
 
   Eigen::Vector3d user_point(std::size_t i) const { return origin + unit * centered[i]; }
 };
@@ -44,7 +45,8 @@ struct PreparedCloud {
 constexpr double kMaxUnit = 1e150;
 double internal_unit(double radius, double target_extent);
 
-/// Prepares `in` into *out (its buffers reused): drops non-finite points, filters, centres and
+/// Prepares `in` into *out (its buffers reused): drops non-finite points, filters (with the leaf
+/// `voxel`; RegistrationOptions::kAutomaticVoxel: automatic_voxel_filter()), centres and
 /// divides by `unit` (> 0), or by internal_unit(radius, extent) of this very cloud when `unit`
 /// is 0 (the target). The points are prepared in one buffer, in place: their order is not kept
 /// (the caller sorts them, spatial_order.hpp). name ("source" or "target") prefixes every message.

@@ -354,6 +354,8 @@ Status Registration::Impl::prepare_source(const PointCloud& cloud, RegistrationR
   result->target_surface_noise = target.unit * target_fits.surface_noise;
   result->target_spacing = target.unit * target_fits.spacing;
   result->radius = radius;
+  result->source_voxel = source.leaf;
+  result->target_voxel = target.leaf;
   if (pair_normals()) {
     s = source_tree.build(source.centered);
     if (!s.ok()) return s;

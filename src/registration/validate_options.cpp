@@ -2,6 +2,7 @@
 // group.
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "association/association_table.hpp"
 #include "common/format.hpp"
@@ -48,8 +49,11 @@ void check_user(const RegistrationOptions& o, Checker* c) {
              "radius", "> 0, or 0 for automatic", num(o.radius));
   c->int_range(o.max_neighbours, 1, detail::AssociationTable::kMaxNeighbours, "max_neighbours");
   if (o.expert.weight_model == WeightModel::kStudentT) c->positive_value(o.dof, "dof");
-  c->non_negative_value(o.source_voxel, "source_voxel");
-  c->non_negative_value(o.target_voxel, "target_voxel");
+  for (const auto& [leaf, field] : {std::pair<double, const char*>{o.source_voxel, "source_voxel"},
+                                    {o.target_voxel, "target_voxel"}}) {
+    c->require(non_negative(leaf) || leaf == RegistrationOptions::kAutomaticVoxel, field,
+               ">= 0 or kAutomaticVoxel (-1)", num(leaf));
+  }
   c->require((o.criteria & ~std::uint32_t{0xF}) == 0, "criteria", "a combination of Criterion bits",
              std::to_string(o.criteria));
   c->int_range(o.max_iterations, 1, kIntMax, "max_iterations");

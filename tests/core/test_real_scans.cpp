@@ -381,3 +381,39 @@ TEST_CASE("automatic radius: the bunny in millimetres, the LiDAR pair in centime
     }
   }
 }
+
+// The automatic leaf (kAutomaticVoxel) with nothing else set: each cloud filtered to about
+// kAutomaticVoxelPoints points, so that the automatic radius, 8 spacings of the filtered target,
+// covers the LiDAR pair's 0.5 m misalignment (without a leaf it is 10 cm: the pair ends 0.5 m off);
+// the leaves scale with the units.
+TEST_CASE("automatic leaf: the LiDAR pair and the bunny with no other option, in any units",
+          "[real]") {
+  RegistrationOptions o;
+  o.source_voxel = o.target_voxel = RegistrationOptions::kAutomaticVoxel;
+  for (const double unit : {1.0, 1000.0}) {
+    const PointCloud source = scaled(load_cloud("lidar/source.ply"), unit);
+    const PointCloud target = scaled(load_cloud("lidar/target.ply"), unit);
+    Eigen::Isometry3d T_gt = load_transform("lidar/source_gt.txt");
+    T_gt.translation() *= unit;
+    const RegistrationResult r = ppcr::align(source, target, o);
+    INFO("lidar x " << unit << ": " << describe(r, T_gt) << ", leaves " << r.source_voxel << " "
+                    << r.target_voxel << ", radius " << r.radius);
+    REQUIRE(r.status.ok());
+    CHECK(r.source_voxel > 0.1 * unit);  // about 0.18 m
+    CHECK(r.source_voxel < 0.3 * unit);
+    const double wanted = static_cast<double>(RegistrationOptions::kAutomaticVoxelPoints);
+    CHECK(std::abs(r.source_points / wanted - 1.0) <= 0.15);
+    CHECK(std::abs(r.target_points / wanted - 1.0) <= 0.15);
+    CHECK(ppcr::rotation_error_deg(r.T_target_source, T_gt) < 0.3);
+    CHECK(ppcr::translation_error(r.T_target_source, T_gt) < 0.03 * unit);
+    CHECK(r.quality == ppcr::Quality::kGood);
+  }
+  const BunnyPair bunny = load_bunny();
+  const RegistrationResult r = ppcr::align(bunny.source, bunny.target, o);
+  INFO("bunny: " << describe(r, bunny.T_gt) << ", leaf " << r.target_voxel);
+  REQUIRE(r.status.ok());
+  CHECK(r.target_voxel > 0.001);  // about 1.7 mm
+  CHECK(r.target_voxel < 0.003);
+  CHECK(ppcr::rotation_error_deg(r.T_target_source, bunny.T_gt) < 0.2);
+  CHECK(ppcr::translation_error(r.T_target_source, bunny.T_gt) < 0.001);
+}

@@ -9,6 +9,7 @@
 
 #include "core_test_util.hpp"
 #include "ppcr/voxel.hpp"
+#include "preparation/automatic_voxel.hpp"
 
 using core_test::Rng;
 using ppcr::PointCloud;
@@ -179,4 +180,42 @@ TEST_CASE("voxel_downsample: a leaf larger than the cloud gives its centroid", "
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : cloud) sum += p;
   CHECK((out[0] - sum / 1000.0).norm() < 1e-15);
+}
+
+// The automatic leaf (preparation/automatic_voxel.hpp): about the asked number of points, the
+// filter being voxel_downsample with the leaf reported; a smaller cloud untouched; the leaf scales
+// with the cloud's units.
+TEST_CASE("automatic voxel filter: about the asked points, unit-free, small clouds untouched",
+          "[voxel]") {
+  Rng rng(7);
+  PointCloud surface;  // a wavy 4 x 3 sheet, 60,000 points
+  for (int i = 0; i < 60000; ++i) {
+    const double x = core_test::uniform(rng, -2.0, 2.0), y = core_test::uniform(rng, -1.5, 1.5);
+    surface.emplace_back(x, y, 0.2 * std::sin(2 * x) * std::cos(y));
+  }
+  for (const std::size_t wanted : {std::size_t{2000}, std::size_t{10000}, std::size_t{30000}}) {
+    PointCloud out;
+    double leaf = 0.0;
+    REQUIRE(ppcr::detail::automatic_voxel_filter(surface, wanted, &out, &leaf).ok());
+    INFO(wanted << " wanted: " << out.size() << " kept, leaf " << leaf);
+    CHECK(std::abs(static_cast<double>(out.size()) / wanted - 1.0) <= 0.15);
+    PointCloud reference;
+    REQUIRE(ppcr::voxel_downsample(surface, leaf, &reference).ok());
+    CHECK(out == reference);
+    // The same cloud in millimetres: the same points kept, the leaf x 1000.
+    PointCloud millimetres, out_mm;
+    for (const Eigen::Vector3d& p : surface) millimetres.push_back(1000.0 * p);
+    double leaf_mm = 0.0;
+    REQUIRE(ppcr::detail::automatic_voxel_filter(millimetres, wanted, &out_mm, &leaf_mm).ok());
+    CHECK(out_mm.size() == out.size());
+    CHECK(leaf_mm == Approx(1000.0 * leaf).epsilon(1e-9));
+  }
+  PointCloud out;
+  double leaf = 1.0;
+  REQUIRE(ppcr::detail::automatic_voxel_filter(surface, 60000, &out, &leaf).ok());
+  CHECK(leaf == 0.0);
+  CHECK(out == surface);
+  const PointCloud same(100, Eigen::Vector3d(1, 2, 3));  // one point, many times
+  REQUIRE(ppcr::detail::automatic_voxel_filter(same, 10, &out, &leaf).ok());
+  CHECK(out == PointCloud{Eigen::Vector3d(1, 2, 3)});
 }

@@ -164,9 +164,13 @@ TEST_CASE("Depth PNG: every truncation and every flipped byte of a file is read 
     read(bytes.substr(0, keep), std::to_string(keep) + " bytes kept");
   }
   CHECK(refused == bytes.size());  // the last chunk (IEND) is required too
+  refused = 0;
   for (std::size_t at = 0; at < bytes.size(); ++at) {
     std::string flipped = bytes;
     flipped[at] = static_cast<char>(flipped[at] ^ 0x24);
     read(flipped, "byte " + std::to_string(at) + " flipped");
   }
+  // Each flip breaks the signature or a chunk's CRC (which covers its type and data), or cuts
+  // the chunk sequence (a length): every one is refused.
+  CHECK(refused == bytes.size());
 }

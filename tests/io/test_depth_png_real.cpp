@@ -55,8 +55,9 @@ TEST_CASE("Depth PNG: the real TUM frames read as libpng's simplified decoder re
     PointCloud cloud;
     ReadReport report;
     REQUIRE(ppcr::io::read_cloud(path, camera, &cloud, &report).ok());
-    // The reference: libpng's simplified API, 16-bit linear gray (no gamma conversion: the
-    // frames carry no gAMA chunk, which the check below asserts by the extreme values).
+    // The reference: libpng's simplified API, 16-bit linear gray. It converts no gamma for
+    // 16-bit data without a gAMA or sRGB chunk, which these frames lack: were that not so, the
+    // point-by-point comparison below would fail.
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
     REQUIRE(png_image_begin_read_from_file(&image, path.c_str()) != 0);

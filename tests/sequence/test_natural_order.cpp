@@ -85,20 +85,33 @@ TEST_CASE("a TUM RGB-D folder's scans are its depth images, their names their ti
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "depth");
   std::filesystem::create_directories(dir / "rgb");
-  for (const char* name : {"groundtruth.txt", "depth.txt", "rgb.txt", "rgb/1305031229.5.png"}) {
+  for (const char* name : {"groundtruth.txt", "rgb.txt", "rgb/1305031229.5.png"}) {
     std::ofstream(dir / name) << "x";
   }
-  for (const char* name : {"1305031229.564442.png", "1305031229.528784.png", "1305031230.1.png"}) {
+  // Times with other numbers of decimals, in time order (not natural order: .6 after .564442).
+  for (const char* name :
+       {"1305031229.564442.png", "1305031229.528784.png", "1305031230.1.png", "1305031229.6.png"}) {
     std::ofstream(dir / "depth" / name) << "x";
   }
-  std::vector<std::string> scans;
-  REQUIRE(ppcr_odometry::list_scans({dir.string()}, &scans).ok());
+  std::vector<std::string> scans, skipped;
+  REQUIRE(ppcr_odometry::list_scans({dir.string()}, &scans, &skipped).ok());
   CHECK(scans == std::vector<std::string>{(dir / "depth/1305031229.528784.png").string(),
                                           (dir / "depth/1305031229.564442.png").string(),
+                                          (dir / "depth/1305031229.6.png").string(),
                                           (dir / "depth/1305031230.1.png").string()});
+  REQUIRE(skipped.size() == 1u);  // says which folder it read
+  CHECK(skipped[0] == dir.string() + ": a TUM RGB-D folder: its depth/ images are the scans");
   std::vector<double> times;
   REQUIRE(ppcr_odometry::times_from_names(scans, &times));
-  CHECK(times == std::vector<double>{1305031229.528784, 1305031229.564442, 1305031230.1});
+  CHECK(times ==
+        std::vector<double>{1305031229.528784, 1305031229.564442, 1305031229.6, 1305031230.1});
+  // A depth/ subfolder alone (no depth.txt, no rgb/) is not a TUM folder: its own files count.
+  const std::filesystem::path plain = dir / "plain";
+  std::filesystem::create_directories(plain / "depth");
+  std::ofstream(plain / "scan_1.ply") << "x";
+  std::ofstream(plain / "scan_2.ply") << "x";
+  REQUIRE(ppcr_odometry::list_scans({plain.string()}, &scans).ok());
+  CHECK(scans.size() == 2u);
   // Names that are not all times give none: KITTI's numbers, a name without digits after the point.
   for (const auto& names : {std::vector<std::string>{"a/000000.bin", "a/000001.bin"},
                             std::vector<std::string>{"1305031229.5.png", "scan_1.5.png"},

@@ -28,6 +28,7 @@ TEST_CASE("a TUM RGB-D folder runs as a sequence with its frames' times, and eva
   for (std::size_t i = 0; i < 4; ++i)
     fs::create_symlink(frames[i], dir / "depth" / frames[i].filename());
   fs::create_symlink(data / "groundtruth.txt", dir / "groundtruth.txt");
+  fs::create_symlink(data / "depth.txt", dir / "depth.txt");  // with depth/: TUM's layout
 
   const std::string out = (dir / "estimate.txt").string();
   const std::string command = std::string("'") + PPCR_ODOMETRY_EXE + "' '" + dir.string() +

@@ -320,11 +320,21 @@ TEST_CASE("a switch and its negation: the last one given wins", "[tools]") {
   CHECK(parse("--no-reject-boundary --reject-boundary").options.expert.reject_boundary);
 }
 
-TEST_CASE("a bad leaf is named by the flag given", "[tools]") {
-  Parsed p = parse("--source-voxel -1");
+TEST_CASE("a bad leaf is named by the flag given; auto is the automatic leaf", "[tools]") {
+  Parsed p = parse("--source-voxel -2");
   CHECK(p.status.message().rfind("--source-voxel", 0) == 0);
-  p = parse("--target-voxel -1");
+  p = parse("--target-voxel -0.5");
   CHECK(p.status.message().rfind("--target-voxel", 0) == 0);
-  p = parse("--voxel -1");
+  p = parse("--voxel -2");
   CHECK_FALSE(p.status.ok());
+  constexpr double kAuto = ppcr::RegistrationOptions::kAutomaticVoxel;
+  p = parse("--voxel auto");
+  REQUIRE(p.status.ok());
+  CHECK(p.options.source_voxel == kAuto);
+  CHECK(p.options.target_voxel == kAuto);
+  p = parse("--source-voxel AUTO --target-voxel 0.1");
+  REQUIRE(p.status.ok());
+  CHECK(p.options.source_voxel == kAuto);
+  CHECK(p.options.target_voxel == 0.1);
+  CHECK_THROWS_AS(parse("--voxel automatic"), CLI::ConversionError);  // not a number or auto
 }

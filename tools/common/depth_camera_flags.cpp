@@ -2,6 +2,8 @@
 #include "common/depth_camera_flags.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -32,7 +34,14 @@ void add_depth_camera_flags(CLI::App& app, ppcr::io::DepthCamera* camera) {
   app.add_option("--depth-scale", camera->depth_scale,
                  "depth images: stored value per metre (default " + str(defaults.depth_scale) +
                      ", TUM's; 1000 for millimetres)")
-      ->check(CLI::PositiveNumber.description(""))
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            return std::isfinite(v) && v > 0.0 ? std::string()
+                                               : "must be finite and > 0, got " + text;
+          },
+          ""))
       ->group("Depth images");
 }
 

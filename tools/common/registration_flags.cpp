@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <utility>
@@ -88,18 +89,32 @@ void add_user_flags(CLI::App& app, RegistrationFlags* f) {
         "Student-t degrees of freedom, any finite value > 0 (default " + str(o.dof) +
             "); as it grows the weights tend to --gaussian's, reached to 1e-9 from about 1e12",
         kRegistrationGroup);
+  // "auto": RegistrationOptions::kAutomaticVoxel, the leaf that leaves about
+  // kAutomaticVoxelPoints points.
+  const CLI::Transformer automatic_leaf(
+      std::map<std::string, std::string>{{"auto", str(ppcr::RegistrationOptions::kAutomaticVoxel)}},
+      CLI::ignore_case);
+  const std::string automatic = "; auto: the leaf leaving about " +
+                                std::to_string(ppcr::RegistrationOptions::kAutomaticVoxelPoints) +
+                                " points";
   CLI::Option* voxel =
       app.add_option_function<double>(
              "--voxel",
              [o = &f->options](double leaf) { o->source_voxel = o->target_voxel = leaf; },
              "voxel-grid leaf for both clouds, cloud units (sets --source-voxel and "
-             "--target-voxel)")
+             "--target-voxel" +
+                 automatic + ")")
           ->check(non_empty())
+          ->transform(CLI::Transformer(automatic_leaf).description(""))
           ->group(kRegistrationGroup);
   value(app, "--source-voxel", &o.source_voxel,
-        "voxel-grid leaf for the source, cloud units (default 0 = off)", kRegistrationGroup);
+        "voxel-grid leaf for the source, cloud units (default 0 = off" + automatic + ")",
+        kRegistrationGroup)
+      ->transform(CLI::Transformer(automatic_leaf).description(""));
   value(app, "--target-voxel", &o.target_voxel,
-        "voxel-grid leaf for the target, cloud units (default 0 = off)", kRegistrationGroup);
+        "voxel-grid leaf for the target, cloud units (default 0 = off" + automatic + ")",
+        kRegistrationGroup)
+      ->transform(CLI::Transformer(automatic_leaf).description(""));
   voxel->excludes("--source-voxel")->excludes("--target-voxel");
   value(app, "--threads", &o.num_threads, "threads (default 1; results do not depend on it)",
         kRegistrationGroup);

@@ -33,6 +33,8 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["final_cost"] = r.final_cost;
   j["radius_used"] = r.radius;
   j["radius_source"] = automatic_radius ? "auto" : "user";
+  j["source_voxel_used"] = r.source_voxel;
+  j["target_voxel_used"] = r.target_voxel;
   j["scale"] = r.scale;
   j["target_surface_noise"] = r.target_surface_noise;
   j["time_ms"] = time_ms;

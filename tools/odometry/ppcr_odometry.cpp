@@ -213,7 +213,9 @@ int run(const Arguments& a, const ppcr::RegistrationOptions& options) {
   std::vector<std::string> scans, skipped;
   ppcr::Status s = ppcr_odometry::list_scans(a.inputs, &scans, &skipped);
   if (!s.ok()) return fail(1, s.message());
-  for (const std::string& line : skipped) std::fprintf(stderr, "ppcr_odometry: %s\n", line.c_str());
+  for (const std::string& line : skipped) {
+    if (!a.quiet) std::fprintf(stderr, "ppcr_odometry: %s\n", line.c_str());
+  }
   if (scans.size() < 2)
     return fail(2, "a sequence needs at least 2 scans; got " + std::to_string(scans.size()));
   ppcr_odometry::OdometrySettings settings;

@@ -59,6 +59,18 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
   std::sort(names.begin(), names.end(), natural_less);
   std::vector<std::string> others;
   keep_one_format(&names, &others);
+  // Names that are times ("1305031229.6.png" and "1305031229.528784.png") in time order, which
+  // natural order is not when their decimals differ in number.
+  std::vector<double> times;
+  if (times_from_names(names, &times)) {
+    std::vector<std::size_t> order(names.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return times[a] < times[b]; });
+    std::vector<std::string> sorted;
+    for (std::size_t i : order) sorted.push_back(names[i]);
+    names = std::move(sorted);
+  }
   for (const std::string& name : names) {
     scans->push_back((std::filesystem::path(folder) / name).string());
   }
@@ -71,10 +83,13 @@ ppcr::Status list_folder(const std::string& folder, std::vector<std::string>* sc
   return ppcr::Status::Ok();
 }
 
-// A TUM RGB-D folder (depth/ beside rgb/, groundtruth.txt...): its depth images are the scans.
+// A TUM RGB-D folder (depth/ with depth.txt or rgb/ beside it): its depth images are the scans.
 bool is_tum_rgbd_folder(const std::string& folder) {
+  const std::filesystem::path path(folder);
   std::error_code error;
-  return std::filesystem::is_directory(std::filesystem::path(folder) / "depth", error);
+  return std::filesystem::is_directory(path / "depth", error) &&
+         (std::filesystem::is_regular_file(path / "depth.txt", error) ||
+          std::filesystem::is_directory(path / "rgb", error));
 }
 
 }  // namespace
@@ -105,6 +120,9 @@ ppcr::Status list_scans(const std::vector<std::string>& inputs, std::vector<std:
     std::error_code error;
     if (std::filesystem::is_directory(input, error)) {
       const bool tum = is_tum_rgbd_folder(input);
+      if (tum && skipped != nullptr) {
+        skipped->push_back(input + ": a TUM RGB-D folder: its depth/ images are the scans");
+      }
       const ppcr::Status s = list_folder(
           tum ? (std::filesystem::path(input) / "depth").string() : input, scans, skipped);
       if (!s.ok()) return s;
