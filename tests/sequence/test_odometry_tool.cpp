@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +21,7 @@
 #include "odometry/trajectory_format.hpp"
 #include "odometry/trajectory_metrics.hpp"
 #include "odometry/trajectory_writer.hpp"
+#include "ppcr/io.hpp"
 #include "ppcr/synthetic.hpp"
 
 namespace {
@@ -185,6 +187,35 @@ TEST_CASE("a short room sequence registered scan to scan and to a local map trac
   }
   CHECK(read_text(dir / "map0.kitti") == read_text(dir / "map5.kitti"));
   CHECK(read_text(dir / "map0.kitti") != read_text(dir / "map1.kitti"));
+}
+
+// A KITTI velodyne/ folder: the sequence's scans as 000000.bin... (float32 x y z intensity), with
+// KITTI's times.txt beside them, registered as the .ply scans are (float32 rounding apart).
+TEST_CASE("a folder of KITTI .bin frames registers, its times.txt skipped") {
+  const fs::path dir = case_dir("kitti_bin");
+  make_sequence(dir, 6);
+  const fs::path velodyne = dir / "velodyne";
+  fs::create_directories(velodyne);
+  std::vector<fs::path> plys;
+  for (const auto& e : fs::directory_iterator(dir / "seq/scans")) plys.push_back(e.path());
+  std::sort(plys.begin(), plys.end());
+  REQUIRE(plys.size() == 6u);
+  for (std::size_t i = 0; i < plys.size(); ++i) {
+    ppcr::PointCloud cloud;
+    REQUIRE(ppcr::io::read_cloud(plys[i].string(), &cloud).ok());
+    char name[32];
+    std::snprintf(name, sizeof name, "%06zu.bin", i);
+    REQUIRE(ppcr::io::write_cloud((velodyne / name).string(), cloud).ok());
+  }
+  std::ofstream(velodyne / "times.txt") << "0.0\n0.1\n0.2\n0.3\n0.4\n0.5\n";
+  const fs::path out = dir / "est";
+  REQUIRE(run(PPCR_ODOMETRY_EXE, "'" + velodyne.string() + "' --kitti '" + out.string() + ".kitti'",
+              out.string() + ".err") == 0);
+  CHECK(read_text(out.string() + ".err").find("times.txt") != std::string::npos);  // skipped
+  const ppcr_odometry::Trajectory truth = read_trajectory(dir / "seq/ground_truth_kitti.txt");
+  const ppcr_odometry::Trajectory estimate = read_trajectory(out.string() + ".kitti");
+  REQUIRE(estimate.poses.size() == 6u);
+  CHECK(ate(truth, estimate) < kAteBound);
 }
 
 TEST_CASE("the evaluation (--evaluate) prints the ATE and RPE of an estimate") {
