@@ -180,7 +180,7 @@ struct Option {
 };
 
 template <class Member>
-Option value(const char* name, Member member, const char* doc) {
+Option value(const char* name, Member member, const std::string& doc) {
   return {name, doc,
           [name, member](RegistrationOptions* o, const py::handle& v) {
             auto& field = at(*o, member);
@@ -288,10 +288,12 @@ const std::vector<Option>& options_table() {
       value("dof", &R::dof, "Student-t degrees of freedom (> 0)"),
       value("source_voxel", &R::source_voxel,
             "voxel-grid leaf for the source, cloud units (>= 0; 0 = no filter; "
-            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about 10000 points)"),
+            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about " +
+                std::to_string(R::kAutomaticVoxelPoints) + " points)"),
       value("target_voxel", &R::target_voxel,
             "voxel-grid leaf for the target, cloud units (>= 0; 0 = no filter; "
-            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about 10000 points)"),
+            "ppcr.AUTOMATIC_VOXEL: the leaf leaving about " +
+                std::to_string(R::kAutomaticVoxelPoints) + " points)"),
       criteria_option(),
       value("max_iterations", &R::max_iterations,
             "hard cap on outer iterations, whatever the criteria (>= 1)"),
@@ -655,13 +657,7 @@ ppcr::io::DepthCamera depth_camera(const py::object& intrinsics, const py::objec
     }
     camera.fx = v[0], camera.fy = v[1], camera.cx = v[2], camera.cy = v[3];
   }
-  if (!scale.is_none()) {
-    if (py::isinstance<py::bool_>(scale) ||
-        !(py::isinstance<py::float_>(scale) || py::isinstance<py::int_>(scale))) {
-      throw py::type_error("depth_scale must be a number (stored value per metre)");
-    }
-    camera.depth_scale = scale.cast<double>();
-  }
+  if (!scale.is_none()) camera.depth_scale = to_field(scale, "depth_scale", &camera.depth_scale);
   return camera;
 }
 

@@ -130,8 +130,9 @@ struct RegistrationOptions {
   double dof = 1.25;          // Student-t degrees of freedom nu (finite, > 0; authors: 5); as nu
                               // grows the weights tend to kGaussian's (to 1e-9 from about 1e12)
   /// source_voxel or target_voxel = kAutomaticVoxel: that cloud's leaf is chosen from the cloud,
-  /// the one that leaves about kAutomaticVoxelPoints points (within 15 %; a smaller cloud is not
-  /// filtered); the leaves used are RegistrationResult::source_voxel and target_voxel.
+  /// the one that leaves about kAutomaticVoxelPoints points (within 15 % but on odd clouds; a
+  /// smaller cloud is not filtered); the leaves used are RegistrationResult::source_voxel and
+  /// target_voxel.
   static constexpr double kAutomaticVoxel = -1.0;
   static constexpr std::size_t kAutomaticVoxelPoints = 10000;
   double source_voxel = 0.0;  // voxel-grid leaf for the source (>= 0, or automatic; 0 = none)

@@ -117,7 +117,7 @@ Status prepare_cloud(const PointCloud& in, double voxel, double radius, double u
       return Status(s.code(), std::string(name) + "_voxel " + num(voxel) + ": " + s.message());
     points = std::move(filtered);
   }
-  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, voxel);
+  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, out->leaf);
   center(out);
   out->extent = max_abs(out->centered);
   Status s = check_resolution(name, *out);
@@ -138,7 +138,7 @@ Status prepare_cloud(const PointCloud& in, double voxel, double radius, double u
                       " its squared distances overflow a double; express the clouds in other "
                       "units or raise the radius");
   }
-  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, voxel);
+  if (points.size() < 3) return too_few(name, points.size(), in.size(), out->dropped, out->leaf);
   return Status::Ok();
 }
 

@@ -232,6 +232,7 @@ Status Registration::Impl::take_source() {
     PointCloud filtered(source.centered.size());  // back in the user's frame, to rounding
     for (std::size_t i = 0; i < filtered.size(); ++i) filtered[i] = source.user_point(i);
     const Status s = make_target(filtered, 0.0);
+    target.leaf = source.leaf;  // filtered already: the leaf it was filtered with
     target.dropped = source.dropped;
     target.duplicates += source.duplicates;  // with any the new unit's rounding merged
     return s;

@@ -210,12 +210,27 @@ TEST_CASE("automatic voxel filter: about the asked points, unit-free, small clou
     CHECK(out_mm.size() == out.size());
     CHECK(leaf_mm == Approx(1000.0 * leaf).epsilon(1e-9));
   }
+  // Far from the origin (4 km) with a (0, 0, 0) placeholder point, 1000 times the cloud's extent
+  // away: the far point does not set the leaf. (Georeferenced coordinates, millions of leaves
+  // away, exceed voxel_downsample's 2^21 cells per axis: refused with its message.)
+  PointCloud georeferenced;
+  for (const Eigen::Vector3d& p : surface)
+    georeferenced.push_back(p + Eigen::Vector3d(3e3, 2.5e3, 0));
+  georeferenced.emplace_back(0.0, 0.0, 0.0);
+  {
+    PointCloud out;
+    double leaf = 0.0;
+    REQUIRE(ppcr::detail::automatic_voxel_filter(georeferenced, 10000, &out, &leaf).ok());
+    INFO("kept " << out.size() << ", leaf " << leaf);
+    CHECK(std::abs(static_cast<double>(out.size()) / 10000 - 1.0) <= 0.15);
+  }
   PointCloud out;
   double leaf = 1.0;
   REQUIRE(ppcr::detail::automatic_voxel_filter(surface, 60000, &out, &leaf).ok());
   CHECK(leaf == 0.0);
   CHECK(out == surface);
-  const PointCloud same(100, Eigen::Vector3d(1, 2, 3));  // one point, many times
+  const PointCloud same(100, Eigen::Vector3d(1, 2, 3));  // one point, many times: not filtered
   REQUIRE(ppcr::detail::automatic_voxel_filter(same, 10, &out, &leaf).ok());
-  CHECK(out == PointCloud{Eigen::Vector3d(1, 2, 3)});
+  CHECK(out == same);
+  CHECK(leaf == 0.0);
 }

@@ -252,6 +252,11 @@ int parse(CLI::App& app, int argc, char** argv, Arguments* a, ppcr::Registration
     return fail("--reuse is for --method ppcr alone (beside others: the method ppcr-reuse), got " +
                 flag + a->method_name);
   }
+  // Every method gets the same filtered clouds, filtered here with one leaf per cloud.
+  if (options->source_voxel == ppcr::RegistrationOptions::kAutomaticVoxel ||
+      options->target_voxel == ppcr::RegistrationOptions::kAutomaticVoxel) {
+    return fail("--voxel auto: ppcr_bench filters every method's clouds itself; give a leaf");
+  }
   const bool automatic = options->radius == ppcr::RegistrationOptions::kAutomaticRadius;
   for (const std::string& name : a->methods) {
     if (automatic && name.rfind("ppcr", 0) != 0) {

@@ -4,7 +4,7 @@
 The 19 pairs five frames apart of ../shared/data/tum_fr1_rpy (frame k+5 onto frame k, k = 0, 5,
 ..., 90; $PPCR_DATA_DIR/tum_fr1_rpy if set), each from identity with the Freiburg 1 intrinsics
 and the given flags, scored against TUM's ground truth interpolated at the frames' times (linear
-in position, slerp in rotation, as TUM's tools do). Right: within 5 degrees and 5 cm (the truth is
+in position, slerp in rotation). Right: within 5 degrees and 5 cm (the truth is
 good to a few tenths of a degree per frame there: the folder's README). Prints a row per pair
 (k, rotation error in degrees, translation error in metres, verdict, ms) and the summary line:
 pairs right, median time, wrong pairs the verdict called good.
@@ -32,6 +32,8 @@ def quaternion_matrix(q):
 def pose_at(truth, t):
     """Camera-to-world pose at time t: TUM's poses (t x y z qx qy qz qw) interpolated."""
     i = int(np.searchsorted(truth[:, 0], t))
+    if i == 0 or i == len(truth):
+        sys.exit(f"tum_pairs: time {t} is outside the ground truth's span")
     a, b = truth[i - 1], truth[i]
     s = (t - a[0]) / (b[0] - a[0])
     qa, qb = a[4:8], b[4:8]

@@ -200,6 +200,11 @@ ppcr::Status make_registrar(const Arguments& a, const ppcr::RegistrationOptions&
         ppcr::StatusCode::kInvalidArgument,
         "--method " + a.method + " needs --radius (only ppcr has an automatic one)");
   }
+  if (options.source_voxel == ppcr::RegistrationOptions::kAutomaticVoxel ||
+      options.target_voxel == ppcr::RegistrationOptions::kAutomaticVoxel) {
+    return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
+                        "--method " + a.method + ": --voxel auto is ppcr's; give a leaf");
+  }
   if (a.local_map > 1 && !(a.map_voxel > 0.0)) {
     return ppcr::Status(ppcr::StatusCode::kInvalidArgument,
                         "--method " + a.method + " with --local-map " +
