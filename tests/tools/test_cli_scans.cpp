@@ -69,6 +69,9 @@ TEST_CASE("ppcr_cli: a TUM depth image registers against a moved copy to 1e-4 de
   const cli_test::Run bad = run_cli("'" + frame + "' '" + frame + "' --depth-intrinsics 1 2 3");
   CHECK(bad.status == 2);
   CHECK_THAT(bad.err, Catch::Contains("--depth-intrinsics"));
+  const cli_test::Run nan_scale = run_cli("'" + frame + "' '" + frame + "' --depth-scale nan");
+  CHECK(nan_scale.status == 2);
+  CHECK_THAT(nan_scale.err, Catch::Contains("--depth-scale: must be finite and > 0, got nan"));
 }
 
 TEST_CASE("ppcr_cli: a KITTI .bin frame registers against a moved copy to 1e-4 degrees",

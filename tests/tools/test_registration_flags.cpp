@@ -320,7 +320,7 @@ TEST_CASE("a switch and its negation: the last one given wins", "[tools]") {
   CHECK(parse("--no-reject-boundary --reject-boundary").options.expert.reject_boundary);
 }
 
-TEST_CASE("a bad leaf is named by the flag given; auto is the automatic leaf", "[tools]") {
+TEST_CASE("a bad leaf is named by the flag given, and auto is the automatic leaf", "[tools]") {
   Parsed p = parse("--source-voxel -2");
   CHECK(p.status.message().rfind("--source-voxel", 0) == 0);
   p = parse("--target-voxel -0.5");

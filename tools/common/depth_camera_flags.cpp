@@ -3,9 +3,10 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
+
+#include "common/registration_flags.hpp"
 
 namespace ppcr_tools {
 
@@ -34,14 +35,7 @@ void add_depth_camera_flags(CLI::App& app, ppcr::io::DepthCamera* camera) {
   app.add_option("--depth-scale", camera->depth_scale,
                  "depth images: stored value per metre (default " + str(defaults.depth_scale) +
                      ", TUM's; 1000 for millimetres)")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            char* end = nullptr;
-            const double v = std::strtod(text.c_str(), &end);
-            return std::isfinite(v) && v > 0.0 ? std::string()
-                                               : "must be finite and > 0, got " + text;
-          },
-          ""))
+      ->check(finite_positive())
       ->group("Depth images");
 }
 

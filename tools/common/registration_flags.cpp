@@ -352,6 +352,17 @@ ppcr::Status with_flag_names(const ppcr::Status& s) {
   return s;
 }
 
+const CLI::Validator& finite_positive() {
+  static const CLI::Validator validator(
+      [](std::string& value) -> std::string {
+        double v = 0.0;
+        return parse_finite(value, &v) && v > 0.0 ? std::string()
+                                                  : "must be finite and > 0, got " + value;
+      },
+      "", "finite-positive");
+  return validator;
+}
+
 const CLI::Validator& non_empty() {
   static const CLI::Validator validator(
       [](std::string& value) -> std::string {

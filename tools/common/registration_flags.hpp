@@ -32,6 +32,9 @@ constexpr const char* kExpertGroup =
 /// Refuses an empty value (CLI11 would read '' as 0 or as "not set").
 const CLI::Validator& non_empty();
 
+/// Refuses a value that is not a finite number > 0 (CLI11's PositiveNumber lets NaN through).
+const CLI::Validator& finite_positive();
+
 /// Adds the user flags (--radius, --max-neighbours, --error-model, --dof, --source-voxel,
 /// --target-voxel, --threads), the termination flags (--criterion, --max-iterations,
 /// --cost-drop-threshold, --patience, --mse-ratio, --mse-patience, --steps-threshold) and the
