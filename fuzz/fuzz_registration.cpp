@@ -16,7 +16,8 @@
 //  - history has exactly `iterations` rows when recorded, each with a finite rigid pose, and the
 //    last row's pose is the result's;
 //  - status ok: the stop reason is not invalid_input / numerical_failure; the final cost and the
-//    information matrix are finite; degenerate_directions is -1 for the point model and in
+//    information matrix are finite; the covariance is finite and symmetric with a non-negative
+//    diagonal; degenerate_directions is -1 for the point model and in
 //    [0, 6] for the plane model (when the loop ran);
 //  - status not ok: the message is not empty;
 //  - Registration::align gives ppcr::align's pose; after set_target_to_source() the target
@@ -89,6 +90,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (r.stop_reason == ppcr::StopReason::kNumericalFailure) fail("numerical_failure but ok");
     if (!std::isfinite(r.final_cost)) fail("ok status with a non-finite final cost");
     if (!r.information.allFinite()) fail("ok status with a non-finite information matrix");
+    if (!r.covariance.allFinite() || r.covariance != r.covariance.transpose() ||
+        r.covariance.diagonal().minCoeff() < 0.0) {
+      fail(
+          "ok status with a covariance that is not finite and symmetric with a non-negative "
+          "diagonal");
+    }
     if (o.error_model == ppcr::ErrorModel::kPoint && r.degenerate_directions != -1) {
       fail("point model reported degenerate directions");
     }

@@ -421,6 +421,7 @@ struct Result {
   double radius = 0.0;
   double source_voxel = 0.0, target_voxel = 0.0;
   py::array_t<double> information;  // 6x6
+  py::array_t<double> covariance;   // 6x6
   int degenerate_directions = -1;
   double fitness = 0.0;
   double inlier_rmse = 0.0;
@@ -527,6 +528,7 @@ Result to_result(const ppcr::RegistrationResult& r, double time_ms) {
   out.source_voxel = r.source_voxel;
   out.target_voxel = r.target_voxel;
   out.information = to_array(r.information);
+  out.covariance = to_array(r.covariance);
   out.degenerate_directions = r.degenerate_directions;
   out.fitness = r.fitness;
   out.inlier_rmse = r.inlier_rmse;
@@ -834,7 +836,12 @@ PYBIND11_MODULE(ppcr, m) {
       .def_readonly("target_voxel", &Result::target_voxel,
                     "the target's voxel leaf used, cloud units (0: not filtered)")
       .def_readonly("information", &Result::information,
-                    "6x6 Gauss-Newton information at the final pose")
+                    "6x6 Gauss-Newton information at the final pose (about the target's median "
+                    "point; not a covariance's inverse)")
+      .def_readonly("covariance", &Result::covariance,
+                    "6x6 covariance of the pose: of the twist (rotation, translation) applied on "
+                    "the left of T_target_source about the target frame's origin; radians and "
+                    "cloud units")
       .def_readonly("degenerate_directions", &Result::degenerate_directions,
                     "motions the target's surfaces leave unconstrained (-1: not assessed)")
       .def_readonly("fitness", &Result::fitness,

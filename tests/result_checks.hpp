@@ -22,6 +22,7 @@ inline void check_identical(const ppcr::RegistrationResult& a, const ppcr::Regis
   CHECK(a.initial_cost == b.initial_cost);
   CHECK(a.scale == b.scale);
   CHECK(a.information == b.information);
+  CHECK(a.covariance == b.covariance);
   CHECK(a.degenerate_directions == b.degenerate_directions);
   CHECK(a.correspondences == b.correspondences);
   CHECK(a.source_points == b.source_points);

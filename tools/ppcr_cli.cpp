@@ -8,8 +8,11 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -231,6 +234,19 @@ void print_summary(const ppcr::RegistrationResult& result, double time_ms,
                ppcr::to_string(result.stop_reason), time_ms, ppcr::to_string(result.quality),
                result.fitness, result.inlier_rmse, result.overlap, result.close_fraction,
                result.radius);
+  if (result.status.ok() && result.iterations > 0) {
+    // The loosest direction of each block of the covariance, as 1-sigma.
+    const auto largest = [](const Eigen::Matrix3d& block) {
+      return std::sqrt(
+          std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(block, Eigen::EigenvaluesOnly)
+                       .eigenvalues()[2],
+                   0.0));
+    };
+    const double degrees_per_radian = 180.0 / std::acos(-1.0);
+    std::fprintf(stderr, "; 1-sigma %.2g deg, %.2g",
+                 largest(result.covariance.topLeftCorner<3, 3>()) * degrees_per_radian,
+                 largest(result.covariance.bottomRightCorner<3, 3>()));
+  }
   if (gt != nullptr) {
     std::fprintf(stderr, "; rotation error %.4f deg, translation error %.6g, benchmark error %.6g",
                  gt->rotation_error_deg, gt->translation_error, gt->benchmark_error);

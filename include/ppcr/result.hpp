@@ -104,9 +104,20 @@ struct RegistrationResult {
   /// the ones chosen for RegistrationOptions::kAutomaticVoxel.
   double source_voxel = 0.0;
   double target_voxel = 0.0;
-  /// Gauss-Newton information (J^T W Omega J) at the final pose, twist (omega, v) applied on the
-  /// left about the target's per-axis median point, in the target's axes.
+  /// Gauss-Newton information (J^T W Omega J, unit-free weights w) at the final pose, twist
+  /// (omega, v) applied on the left about the target's per-axis median point, in the target's
+  /// axes, radians and cloud units. Not a covariance's inverse: see `covariance`.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  /// Covariance of the pose: of the twist delta = (omega, v), rotation first, such that
+  /// T_target_source = exp(delta) T_true (applied on the left, about the target frame's origin,
+  /// in its axes; radians and cloud units; se3.hpp's exp). The robust (sandwich) covariance of
+  /// the Student-t fit, its terms summed over patches of the source (docs/COVARIANCE.md: how it
+  /// is made, and where it is calibrated against known truth). Along a direction the surfaces
+  /// leave free (degenerate_directions) the standard deviation is the association radius
+  /// (rotations: the radius over the source's RMS distance from its centroid): large, finite,
+  /// never NaN; so is every direction when no pair was left at the end. Zero when no iteration
+  /// ran (status not ok).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   /// Plane model: directions of motion the target's surfaces leave unconstrained (eigenvalues of
   /// the surface-normal information, rotations scaled by the source's RMS radius, below 1e-2 of
   /// the largest): 3 for a plane, 2 for a cylinder, 3 for a sphere, 0 for well-constrained
@@ -127,7 +138,7 @@ struct RegistrationResult {
                                 // when the target has no spacing
   Quality quality = Quality::kFailed;  // the verdict (see Quality), set by every align()
   const char* quality_reason = "";     // why it is not kGood: one sentence, static text
-  double quality_ms = 0.0;             // wall time of these measures (not part of the loop)
+  double quality_ms = 0.0;  // wall time of these measures, the covariance and the free directions
   std::vector<IterationRecord> history;
 
   /// True when a termination criterion stopped the loop (not the cap, not a failure).

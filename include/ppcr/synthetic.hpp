@@ -132,6 +132,9 @@ struct ScanOptions {
   /// (within 5 degrees) in the street; elevation within +-3 degrees. The two positions are
   /// placed symmetrically about a seeded point of the scene's free space.
   double translation_m = 1.5;
+  /// Which draw of the range noise and the outliers: 0, the seed's own; any other value an
+  /// independent draw for the same scene, poses and rays (repeated measurements of one pair).
+  std::uint64_t noise_draw = 0;
 };
 
 struct ScanPair {

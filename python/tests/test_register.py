@@ -55,6 +55,22 @@ def test_bunny_from_numpy_matches_cli(bunny, cli_bunny):
                                                  cli_bunny["quality_reason"])
         assert (r.source_points, r.target_points) == (cli_bunny["source_points"],
                                                       cli_bunny["target_points"])
+        cli_covariance = np.array(cli_bunny["covariance"])
+        np.testing.assert_allclose(r.covariance, cli_covariance, rtol=1e-6,
+                                   atol=1e-9 * np.abs(cli_covariance).max())
+
+
+def test_covariance_one_sigma_as_docs_python_md(bunny):
+    """docs/PYTHON.md's worked example: 1-sigma rotation and translation from the covariance."""
+    source, target = (ppcr.read_point_cloud(path) for path in bunny)
+    r = ppcr.register(source, target, **BUNNY_OPTIONS)
+    C = r.covariance
+    assert C.shape == (6, 6) and C.dtype == np.float64 and np.array_equal(C, C.T)
+    assert np.linalg.eigvalsh(C).min() > 0
+    sigma_rotation_deg = np.degrees(np.sqrt(np.linalg.eigvalsh(C[:3, :3]).max()))
+    sigma_translation = np.sqrt(np.linalg.eigvalsh(C[3:, 3:]).max())
+    # The figures docs/PYTHON.md prints (its error against the pair's truth: 0.048 deg, 4.9e-05 m).
+    assert f"{sigma_rotation_deg:.2g} deg, {sigma_translation:.2g} m" == "0.036 deg, 6.5e-05 m"
 
 
 def test_bunny_read_by_ppcr_matches_cli(bunny, cli_bunny):

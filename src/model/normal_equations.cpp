@@ -25,11 +25,6 @@ inline double omega_isotropic(const Eigen::Vector3d& n, double epsilon) {
   return n.squaredNorm() > 0.0 ? epsilon : 1.0;
 }
 
-// a of a pair's Omega = a I + n n^T (PairNormal): epsilon with a normal, else 1.
-inline double pair_isotropic(const PairNormal& pn, double epsilon) {
-  return pn.q > 0.0 ? epsilon : 1.0;
-}
-
 // Obar_j of the plane model: symmetric, its six entries.
 struct Sym3 {
   double xx, yy, zz, xy, yz, xz;

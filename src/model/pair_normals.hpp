@@ -20,6 +20,11 @@ inline double dot_in_order(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a.x() * b.x() + a.y() * b.y()) + a.z() * b.z();
 }
 
+/// a of a pair's Omega = a I + n n^T (PairNormal): epsilon with a normal, else 1.
+inline double pair_isotropic(const PairNormal& pn, double epsilon) {
+  return pn.q > 0.0 ? epsilon : 1.0;
+}
+
 /// The normals of one source point's pairs, formed in the plane pass (normal_equations.cpp) from
 /// PairNormalSource: for its i-th pair (target point y = idx[i], normal n = target_points[y].n)
 /// and m = R m_j, its source normal in the target frame at the association's rotation R,

@@ -19,6 +19,14 @@ int degenerate_directions(const Matrix6d& H_normal, double rms_radius);
 
 constexpr double kDegenerateRatio = 1e-2;
 
+/// Releases covariance C (of a twist (omega, v), about the same point as H_normal) along the
+/// directions degenerate_directions() counts: C's part in the other directions is kept, and
+/// along the free ones it is a standard deviation of `reach` (a length; rotations: reach /
+/// rms_radius): the pose is known there only to within the association's reach. Returns C
+/// unchanged when there is none.
+Matrix6d release_free_directions(const Matrix6d& C, const Matrix6d& H_normal, double rms_radius,
+                                 double reach);
+
 }  // namespace detail
 }  // namespace PPCR_ABI_NAMESPACE
 }  // namespace ppcr

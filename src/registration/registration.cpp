@@ -17,10 +17,12 @@
 #include "common/format.hpp"
 #include "common/parallel.hpp"
 #include "ppcr/metrics.hpp"
+#include "ppcr/se3.hpp"
 #include "preparation/cloud_preparation.hpp"
 #include "preparation/pca_normals.hpp"
 #include "preparation/point_spacing.hpp"
 #include "quality/alignment_quality.hpp"
+#include "quality/covariance.hpp"
 #include "quality/degeneracy.hpp"
 #include "quality/verdict.hpp"
 #include "registration/pose_acceleration.hpp"
@@ -65,6 +67,15 @@ struct Frame {
     E.topRightCorner<3, 3>() *= unit;
     E.bottomLeftCorner<3, 3>() *= unit;
     return E;
+  }
+  // The covariance of a twist about the internal origin (the target's median point) as the
+  // covariance of the twist (omega, v') about the target frame's origin: v' = u v + o x omega
+  // (the adjoint of the translation by o = target_origin), C' = A C A^T.
+  detail::Matrix6d covariance(const detail::Matrix6d& C) const {
+    detail::Matrix6d A = detail::Matrix6d::Identity();
+    A.bottomRightCorner<3, 3>() *= unit;
+    A.bottomLeftCorner<3, 3>() = se3::skew(target_origin);
+    return detail::positive_semidefinite(A * C * A.transpose());
   }
 };
 
@@ -151,7 +162,8 @@ struct Registration::Impl {
   detail::Associator associator;
   detail::LMSolver lm;
   std::vector<double> quality_scratch;
-  std::vector<detail::Matrix6d> information_blocks;  // normal_information's per-block sums
+  std::vector<detail::Matrix6d> information_blocks;         // normal_information's per-block sums
+  std::vector<detail::CovarianceSums> covariance_clusters;  // covariance_sums' per cluster
 
   struct Run;
   bool automatic_radius() const { return options.radius == RegistrationOptions::kAutomaticRadius; }
@@ -185,6 +197,8 @@ struct Registration::Impl {
                          Clock::time_point start) const;
   void summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                  RegistrationResult* result);
+  detail::Matrix6d covariance(const Eigen::Isometry3d& T, const Run& run,
+                              const detail::Matrix6d* H_normal);
 };
 
 Registration::Registration(const RegistrationOptions& options) : impl_(new Impl(options)) {}
@@ -414,6 +428,7 @@ Registration::Impl::Run Registration::Impl::start(const Eigen::Isometry3d& T_ini
   // For every point, also when a run that ends on the coarse level came first (allocation-free
   // after the first call).
   information_blocks.reserve(detail::block_count(n, detail::NormalEquations::kBlockSize));
+  covariance_clusters.reserve(detail::block_count(n, detail::kClusterPoints));
   if (o.record_history) result->history.reserve(std::min<std::size_t>(o.max_iterations, 1000));
   const CloudMoments moments = compute_moments(source.centered);
   const double source_rms = std::sqrt(std::max(moments.covariance.trace(), 1e-300));
@@ -575,9 +590,10 @@ IterationRecord Registration::Impl::record(int t, bool coarse, double scale_sq,
   return r;
 }
 
-// The information at the final pose and, with the plane model, the directions the target's
-// surfaces leave free (judged on the target's normals also with source normals: the null
-// directions are the surfaces', whatever normal the pairs use).
+// The information and the covariance at the final pose, the measures of agreement and, with
+// the plane model, the directions the target's surfaces leave free (judged on the target's
+// normals also with source normals: the null directions are the surfaces', whatever normal the
+// pairs use).
 void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T, const Run& run,
                                    RegistrationResult* result) {
   if (reason == StopReason::kNumericalFailure) {
@@ -606,12 +622,47 @@ void Registration::Impl::summarise(StopReason reason, const Eigen::Isometry3d& T
   // Without a spacing (a target of duplicated points) there is no surface to be close to.
   result->close_fraction =
       spacing > 0.0 ? q.close_fraction : std::numeric_limits<double>::quiet_NaN();
+  detail::Matrix6d H_normal;
+  if (planes) {
+    H_normal = detail::NormalEquations::normal_information(
+        associator.points(), associator.table(), T, lm.weights().data(), target_plane_points,
+        &parallel, &information_blocks);
+    result->degenerate_directions = detail::degenerate_directions(H_normal, run.source_rms);
+  }
+  result->covariance = run.frame.covariance(covariance(T, run, planes ? &H_normal : nullptr));
   result->quality_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  if (!planes) return;
-  const detail::Matrix6d H_normal = detail::NormalEquations::normal_information(
-      associator.points(), associator.table(), T, lm.weights().data(), target_plane_points,
-      &parallel, &information_blocks);
-  result->degenerate_directions = detail::degenerate_directions(H_normal, run.source_rms);
+}
+
+// The pose's covariance in the internal frame (covariance.hpp): the sandwich over the source's
+// patches, or with fewer than kMinClusters of them the residuals' s^2 H_GN in its middle; with the
+// plane model released along the free directions of H_normal. With no pair left (nothing
+// measured the pose) every direction gets the radius, as a free one.
+detail::Matrix6d Registration::Impl::covariance(const Eigen::Isometry3d& T, const Run& run,
+                                                const detail::Matrix6d* H_normal) {
+  const detail::WeightParams& e_step = run.problem.weights;
+  const detail::GradientTerms terms{&associator.points(),
+                                    &associator.table(),
+                                    lm.weights().data(),
+                                    T,
+                                    &target.centered,
+                                    plane_model() ? &plane : nullptr,
+                                    e_step};
+  const detail::CovarianceSums sums =
+      detail::covariance_sums(terms, &parallel, &covariance_clusters);
+  const detail::Matrix6d& H_gn = lm.last().H;
+  const detail::Matrix6d H_true = H_gn - e_step.inv_scale_sq * sums.curvature;
+  const detail::Matrix6d meat =
+      sums.clusters >= detail::kMinClusters ? sums.meat : (1.0 / e_step.inv_scale_sq) * H_gn;
+  detail::Matrix6d C = detail::sandwich_covariance(H_true, meat);
+  if (sums.clusters == 0 || !(H_true.diagonal().maxCoeff() > 0.0) || !C.allFinite()) {
+    C = detail::Matrix6d::Zero();
+    const double reach = solver.radius, rotation = solver.radius / run.source_rms;
+    C.diagonal() << rotation * rotation, rotation * rotation, rotation * rotation, reach * reach,
+        reach * reach, reach * reach;
+    return C;
+  }
+  if (H_normal == nullptr) return C;
+  return detail::release_free_directions(C, *H_normal, run.source_rms, solver.radius);
 }
 
 RegistrationResult align(const PointCloud& source, const PointCloud& target,

@@ -114,6 +114,16 @@ SensorModel depth_camera(int columns, int rows, double max_range) {
   return camera;
 }
 
+namespace {
+
+// The noise or outliers stream of options.noise_draw (ScanOptions): the seed's own for draw 0.
+Rng draw(const ScanOptions& options, Stream stream) {
+  return options.noise_draw == 0 ? Rng(options.seed, stream)
+                                 : Rng(options.seed, stream, options.noise_draw);
+}
+
+}  // namespace
+
 Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
   if (out == nullptr) {
     return Status(StatusCode::kInvalidArgument, "make_scan_pair: out is null");
@@ -129,17 +139,17 @@ Status make_scan_pair(const ScanOptions& options, ScanPair* out) {
     noise.sigma = options.noise_sigma;
     noise.per_metre = options.noise_per_metre;
     noise.quantisation = options.depth_quantisation;
-    Rng source_noise(options.seed, Stream::kSourceNoise);
+    Rng source_noise = draw(options, Stream::kSourceNoise);
     internal::scan(scene, options.sensor, pair.T_world_source, noise, &source_noise, &pair.source);
     pair.source_returns = pair.source.size();
-    Rng target_noise(options.seed, Stream::kTargetNoise);
+    Rng target_noise = draw(options, Stream::kTargetNoise);
     internal::scan(scene, options.sensor, pair.T_world_target, noise, &target_noise, &pair.target);
     pair.target_returns = pair.target.size();
 
-    Rng source_outliers(options.seed, Stream::kSourceOutliers);
+    Rng source_outliers = draw(options, Stream::kSourceOutliers);
     internal::add_outliers(scene, options.outlier_fraction, options.sensor.max_range,
                            pair.T_world_source, &source_outliers, &pair.source);
-    Rng target_outliers(options.seed, Stream::kTargetOutliers);
+    Rng target_outliers = draw(options, Stream::kTargetOutliers);
     internal::add_outliers(scene, options.outlier_fraction, options.sensor.max_range,
                            pair.T_world_target, &target_outliers, &pair.target);
     *out = std::move(pair);

@@ -153,6 +153,14 @@ inline std::string invariant_violation(const ppcr::RegistrationResult& r,
       return "ok status with a failure stop reason";
     }
     if (!r.information.allFinite()) return "ok status with a non-finite information matrix";
+    if (!r.covariance.allFinite()) return "ok status with a non-finite covariance";
+    if (!r.covariance.isApprox(r.covariance.transpose()) ||
+        r.covariance.diagonal().minCoeff() < 0) {
+      std::ostringstream text;
+      text << "ok status with a covariance that is not symmetric with a non-negative diagonal:\n"
+           << r.covariance;
+      return text.str();
+    }
     if (!std::isfinite(r.final_cost)) return "ok status with a non-finite cost";
   } else if (r.status.message().empty()) {
     return "failure without a message";

@@ -245,6 +245,61 @@ TEST_CASE("degenerate directions (plane model): a cylinder leaves 2 free",
   CHECK(r.degenerate_directions == 2);
 }
 
+// Noisy scans of a plane (free: x, y, rotation about z) and of a corridor along x (a floor and
+// two walls; free: x), sampled independently for source and target: the covariance is finite,
+// and its largest axes are the free directions, by orders of magnitude.
+TEST_CASE("covariance: largest along the free directions of a plane and a corridor, finite",
+          "[reliability][degenerate]") {
+  Rng rng(7);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  const auto plane = [&]() {
+    PointCloud cloud = rel_test::plane_cloud(rng, 3000);
+    for (Eigen::Vector3d& p : cloud) p.z() += noise(rng);
+    return cloud;
+  };
+  const auto corridor = [&]() {
+    PointCloud cloud;
+    for (int i = 0; i < 3000; ++i) {
+      const double x = rel_test::uniform(rng, -2, 2), u = rel_test::uniform(rng, -1, 1);
+      if (i % 3 == 0) cloud.emplace_back(x, u, noise(rng));           // floor z = 0
+      if (i % 3 == 1) cloud.emplace_back(x, -1 + noise(rng), 1 + u);  // wall y = -1
+      if (i % 3 == 2) cloud.emplace_back(x, 1 + noise(rng), 1 + u);   // wall y = 1
+    }
+    return cloud;
+  };
+  const Eigen::Isometry3d M = rel_test::small_motion();
+  const RegistrationOptions o = options(ErrorModel::kPlane);
+  {
+    INFO("plane");
+    const PointCloud target = plane(), source = rel_test::transformed(plane(), M.inverse());
+    const RegistrationResult r = ppcr::align(source, target, o);
+    check_invariants(r, o);
+    REQUIRE(r.status.ok());
+    CHECK(r.degenerate_directions == 3);
+    const Eigen::Matrix<double, 6, 6>& C = r.covariance;
+    INFO("diagonal " << C.diagonal().transpose());
+    // Free: omega_z (index 2), v_x, v_y (3, 4); constrained: omega_x, omega_y, v_z.
+    const double free_least = std::min({C(3, 3), C(4, 4)});
+    CHECK(free_least > 1e4 * C(5, 5));
+    CHECK(C(2, 2) > 1e4 * std::max(C(0, 0), C(1, 1)));
+  }
+  {
+    INFO("corridor");
+    const PointCloud target = corridor(), source = rel_test::transformed(corridor(), M.inverse());
+    const RegistrationResult r = ppcr::align(source, target, o);
+    check_invariants(r, o);
+    REQUIRE(r.status.ok());
+    CHECK(r.degenerate_directions == 1);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translation(
+        r.covariance.bottomRightCorner<3, 3>());
+    INFO("translation variances " << translation.eigenvalues().transpose());
+    CHECK(std::abs(translation.eigenvectors()(0, 2)) > 0.99);  // the largest axis is x
+    CHECK(translation.eigenvalues()[2] > 1e4 * translation.eigenvalues()[1]);
+    // Along x the standard deviation is the association radius.
+    CHECK(std::sqrt(translation.eigenvalues()[2]) == Approx(o.radius).epsilon(0.05));
+  }
+}
+
 // ---------------------------------------------------------------------------- far and units
 
 TEST_CASE("georeferenced clouds (1e6 and 1e9 m from the origin) register as at the origin",
@@ -350,7 +405,40 @@ TEST_CASE("units never change the answer: the same pair scaled by 1e-12 to 1e12 
       CHECK(r.information(0, 0) / (c * c) == Approx(ref.information(0, 0)).epsilon(1e-9));
       CHECK(r.information(5, 5) == Approx(ref.information(5, 5)).epsilon(1e-9));
       CHECK(r.information(1, 4) / c == Approx(ref.information(1, 4)).epsilon(1e-7));
+      // So does the covariance: radians unchanged, lengths scaled.
+      CHECK(r.covariance(0, 0) == Approx(ref.covariance(0, 0)).epsilon(1e-6));
+      CHECK(r.covariance(5, 5) / (c * c) == Approx(ref.covariance(5, 5)).epsilon(1e-6));
+      CHECK(r.covariance(1, 4) / c == Approx(ref.covariance(1, 4)).epsilon(1e-6));
     }
+  }
+}
+
+TEST_CASE("covariance is about the target frame's origin: a shifted pair's is A C A^T",
+          "[reliability][degenerate]") {
+  // Both clouds moved by t: the same problem in the solver's frame (centred on the target's
+  // median), and the twist about the new origin is (omega, v + t x omega).
+  Rng rng(23);
+  const PointCloud target = rel_test::box_scene(rng, 3000);
+  const Eigen::Isometry3d M = rel_test::small_motion();
+  PointCloud source = rel_test::transformed(target, M.inverse());
+  std::normal_distribution<double> noise(0.0, 0.002);
+  for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const Eigen::Vector3d t(3.0, -2.0, 1.0);
+  const Eigen::Isometry3d shift = Eigen::Isometry3d(Eigen::Translation3d(t));
+  for (ErrorModel model : kModels) {
+    INFO(name(model));
+    const RegistrationOptions o = options(model);
+    const RegistrationResult ref = ppcr::align(source, target, o);
+    const RegistrationResult r =
+        ppcr::align(rel_test::transformed(source, shift), rel_test::transformed(target, shift), o);
+    REQUIRE(ref.status.ok());
+    REQUIRE(r.status.ok());
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Identity();
+    A.bottomLeftCorner<3, 3>() << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+    const Eigen::Matrix<double, 6, 6> expected = A * ref.covariance * A.transpose();
+    INFO("covariance\n" << r.covariance << "\nexpected\n" << expected);
+    CHECK((r.covariance - expected).norm() < 1e-6 * expected.norm());
+    CHECK(ref.covariance.diagonal().minCoeff() > 0.0);
   }
 }
 

@@ -225,6 +225,32 @@ TEST_CASE("scans are deterministic per seed", "[synthetic][scan]") {
   }
 }
 
+TEST_CASE("noise_draw: the same scans, rays and poses with new noise, 0 the seed's own draw",
+          "[synthetic][scan]") {
+  ScanOptions options = options_for(SceneKind::kRoom, 5);
+  options.noise_sigma = 0.01;
+  options.outlier_fraction = 0.1;
+  const ScanPair seed_draw = scan(options);
+  options.noise_draw = 0;
+  CHECK(scan(options).source == seed_draw.source);
+  options.noise_draw = 1;
+  const ScanPair first = scan(options);
+  options.noise_draw = 2;
+  const ScanPair second = scan(options);
+  CHECK(first.T_target_source.matrix() == seed_draw.T_target_source.matrix());
+  REQUIRE(first.source_returns == seed_draw.source_returns);
+  REQUIRE(second.target_returns == seed_draw.target_returns);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < first.source_returns; ++i) {
+    // Each return stays on its ray, at another range.
+    CHECK(first.source[i].normalized().isApprox(seed_draw.source[i].normalized(), 1e-12));
+    moved += first.source[i] != second.source[i] && first.source[i] != seed_draw.source[i];
+  }
+  CHECK(moved == first.source_returns);
+  REQUIRE(first.target.size() > first.target_returns);  // outliers follow the returns
+  CHECK(first.target[first.target_returns] != second.target[second.target_returns]);
+}
+
 TEST_CASE("range noise has the requested standard deviation", "[synthetic][scan]") {
   // A sensor looking down to 60 degrees sees the floor of the room's free middle, where nothing
   // but the floor is (the furniture keeps 2.3 m away from the room's axis).

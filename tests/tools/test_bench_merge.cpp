@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "bench/merge.hpp"
 #include "bench/results_csv.hpp"
 #include "bench/shard.hpp"
+#include "bench/summary.hpp"
 
 namespace {
 
@@ -179,7 +181,7 @@ TEST_CASE("a wrong or missing header, an unreadable file and a bad row are named
   short_row.replace(short_row.find(",cost_drop,"), 11, ",");  // a field less
   const std::string short_file =
       write_text("short.csv", ppcr_bench::csv_header() + "\n" + short_row);
-  CHECK(contains(merge_error({short_file}), short_file + ":2: expected 29 fields, got 28"));
+  CHECK(contains(merge_error({short_file}), short_file + ":2: expected 32 fields, got 31"));
   std::string nan_index = ppcr_bench::format_row(run_info(), problem_row(0));
   nan_index.replace(nan_index.find(",0,7,"), 5, ",x,7,");
   const std::string index_file =
@@ -215,4 +217,22 @@ TEST_CASE("the merged CSV is written whole or not at all", "[bench]") {
   for (const auto& entry : std::filesystem::directory_iterator(kDir)) {
     CHECK(!contains(entry.path().string(), ".partial."));
   }
+}
+
+TEST_CASE("normalised_error is e^T C^-1 e, NaN for a covariance that is not positive definite",
+          "[bench]") {
+  Eigen::Matrix<double, 6, 1> e;
+  e << 1, 2, 0, 0, 3, 0;
+  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Identity();
+  C(0, 0) = 4.0;  // 1^2 / 4
+  C(1, 1) = 0.5;  // 2^2 / 0.5
+  C(4, 4) = 9.0;  // 3^2 / 9
+  CHECK(ppcr_bench::normalised_error(e, C) == Approx(0.25 + 8.0 + 1.0));
+  C(0, 1) = C(1, 0) = 0.5;  // correlated: against the explicit inverse
+  CHECK(ppcr_bench::normalised_error(e, C) == Approx(e.dot(C.inverse() * e)));
+  Eigen::Matrix<double, 6, 6> singular = C;
+  singular(5, 5) = 0.0;
+  CHECK(std::isnan(ppcr_bench::normalised_error(e, singular)));
+  CHECK(std::isnan(ppcr_bench::normalised_error(
+      e, Eigen::Matrix<double, 6, 6>::Constant(std::numeric_limits<double>::quiet_NaN()))));
 }

@@ -58,7 +58,9 @@ TEST_CASE("ppcr_cli registers, and its JSON counts the points the reader dropped
   CHECK(contains(r.out, "\"fitness\""));
   CHECK(contains(r.out, "\"inlier_rmse\""));
   CHECK(contains(r.out, "\"information\""));
+  CHECK(contains(r.out, "\"covariance\""));
   CHECK(contains(r.err, "fitness"));
+  CHECK(contains(r.err, "; 1-sigma "));
 }
 
 TEST_CASE("ppcr_cli counts the copies of a point it registered once", "[cli]") {

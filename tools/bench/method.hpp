@@ -45,6 +45,9 @@ struct MethodResult {
   int degenerate_directions = -1;
   std::string quality;
   double quality_ms = std::numeric_limits<double>::quiet_NaN();
+  // ppcr's pose covariance (RegistrationResult::covariance); NaN for the peers.
+  Eigen::Matrix<double, 6, 6> covariance =
+      Eigen::Matrix<double, 6, 6>::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 class Method {

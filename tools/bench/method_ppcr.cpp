@@ -56,6 +56,7 @@ class PpcrMethod : public Method {
     out.quality = ppcr::to_string(r.quality);
     out.degenerate_directions = r.degenerate_directions;
     out.quality_ms = r.quality_ms;
+    out.covariance = r.covariance;
     return out;
   }
 

@@ -39,6 +39,7 @@
 #include "common/usage_error.hpp"
 #include "ppcr/io.hpp"
 #include "ppcr/metrics.hpp"
+#include "ppcr/se3.hpp"
 #include "ppcr/version.hpp"
 #include "ppcr/voxel.hpp"
 
@@ -329,6 +330,9 @@ ppcr::Status run_problem(const ppcr_bench::Problem& p, const Arguments& a, const
   run->outcome.rotation_error_deg = e.rotation_error_deg;
   run->outcome.translation_error = e.translation_error;
   run->outcome.iterations = run->result.iterations;
+  run->outcome.error_twist = ppcr::se3::log(run->result.T_target_source * in.T_gt.inverse());
+  run->outcome.nees =
+      ppcr_bench::normalised_error(run->outcome.error_twist, run->result.covariance);
   run->outcome.time_ms = ms;
   run->source_points = in.S_filtered.size();
   run->target_points = in.target->size();

@@ -39,7 +39,10 @@ constexpr const char* kColumns[] = {"id",
                                     "problem_count",
                                     "success_rotation",
                                     "success_translation",
-                                    "settings"};
+                                    "settings",
+                                    "nees",
+                                    "error_twist",
+                                    "covariance"};
 constexpr std::size_t kColumnCount = std::size(kColumns);
 
 std::size_t column(const std::string& name) {
@@ -52,6 +55,13 @@ std::size_t column(const std::string& name) {
 std::string number(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+// n numbers in one field, separated by spaces (round_trip each).
+std::string numbers(const double* values, int n) {
+  std::string text;
+  for (int i = 0; i < n; ++i) text += (i == 0 ? "" : " ") + round_trip(values[i]);
   return text;
 }
 
@@ -162,7 +172,10 @@ std::string format_row(const RunInfo& run, const ProblemRow& row) {
                                 whole(run.problem_count),
                                 round_trip(run.success_rotation_deg),
                                 round_trip(run.success_translation),
-                                csv_field(run.settings)};
+                                csv_field(run.settings),
+                                number("%.6g", o.nees),
+                                numbers(o.error_twist.data(), 6),
+                                numbers(r.covariance.data(), 36)};
   static_assert(std::size(fields) == kColumnCount, "one field per column");
   std::string line;
   for (const std::string& f : fields) line += (line.empty() ? "" : ",") + f;

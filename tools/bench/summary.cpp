@@ -1,6 +1,7 @@
 // summary.cpp - quantiles (numpy's linear interpolation), the run summary and its printing.
 #include "bench/summary.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,16 @@ double quantile(std::vector<double> v, double q) {
   const std::size_t hi = std::min(lo + 1, v.size() - 1);
   const double f = position - static_cast<double>(lo);
   return v[lo] + f * (v[hi] - v[lo]);
+}
+
+double normalised_error(const Eigen::Matrix<double, 6, 1>& e,
+                        const Eigen::Matrix<double, 6, 6>& C) {
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(C);
+  if (!C.allFinite() || ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+      !(ldlt.vectorD().minCoeff() > 0.0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return e.dot(ldlt.solve(e));
 }
 
 Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_rotation_deg,

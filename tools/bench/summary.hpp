@@ -1,7 +1,9 @@
 // summary.hpp - quantiles and the summary of a benchmark run, and its printing.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -26,7 +28,16 @@ struct ProblemOutcome {
   double translation_error = 0.0;
   int iterations = 0;
   double time_ms = 0.0;
+  // The pose error as a twist, delta = log(T_estimate T_true^-1) (rotation first, radians and
+  // cloud units: RegistrationResult::covariance's parameterisation), and its normalised squared
+  // error delta^T C^-1 delta under the method's covariance C (NaN without one).
+  Eigen::Matrix<double, 6, 1> error_twist = Eigen::Matrix<double, 6, 1>::Zero();
+  double nees = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// e^T C^-1 e (the normalised estimation error squared); NaN when C is not finite or not
+/// positive definite.
+double normalised_error(const Eigen::Matrix<double, 6, 1>& e, const Eigen::Matrix<double, 6, 6>& C);
 
 /// success: rotation error < success_rotation_deg and translation error < success_translation.
 Summary summarize(const std::vector<ProblemOutcome>& outcomes, double success_rotation_deg,

@@ -8,11 +8,11 @@
 
 namespace ppcr_tools {
 
-nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M) {
+nlohmann::ordered_json matrix_json(const Eigen::Ref<const Eigen::MatrixXd>& M) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (int r = 0; r < 4; ++r) {
+  for (Eigen::Index r = 0; r < M.rows(); ++r) {
     nlohmann::ordered_json row = nlohmann::ordered_json::array();
-    for (int c = 0; c < 4; ++c) row.push_back(M(r, c));
+    for (Eigen::Index c = 0; c < M.cols(); ++c) row.push_back(M(r, c));
     rows.push_back(row);
   }
   return rows;
@@ -55,13 +55,8 @@ nlohmann::ordered_json result_json(const ppcr::RegistrationResult& r, double tim
   j["quality_reason"] = r.quality_reason;
   j["quality_ms"] = r.quality_ms;
   j["degenerate_directions"] = r.degenerate_directions;
-  nlohmann::ordered_json information = nlohmann::ordered_json::array();
-  for (int i = 0; i < 6; ++i) {
-    nlohmann::ordered_json row = nlohmann::ordered_json::array();
-    for (int c = 0; c < 6; ++c) row.push_back(r.information(i, c));
-    information.push_back(row);
-  }
-  j["information"] = information;
+  j["information"] = matrix_json(r.information);
+  j["covariance"] = matrix_json(r.covariance);
   if (gt != nullptr) {
     j["rotation_error_deg"] = gt->rotation_error_deg;
     j["translation_error"] = gt->translation_error;

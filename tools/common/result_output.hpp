@@ -13,8 +13,8 @@
 
 namespace ppcr_tools {
 
-/// Row-major nested arrays, 4x4.
-nlohmann::ordered_json matrix_json(const Eigen::Matrix4d& M);
+/// Row-major nested arrays (the 4x4 transform, the 6x6 information and covariance).
+nlohmann::ordered_json matrix_json(const Eigen::Ref<const Eigen::MatrixXd>& M);
 
 /// The result object of ppcr_cli --json (keys documented in README).
 /// automatic_radius: the options asked for the automatic radius (JSON radius_source).

@@ -156,7 +156,17 @@ struct CommandLine {
   CLI::Option* max_range = nullptr;
 };
 
-/// OUT_DIR, --scene, --sensor and the scan's --seed, noise, outlier and motion flags.
+// CLI11 reads a negative number into an unsigned integer as a huge one: refuse it (UINT64).
+CLI::Validator unsigned_integer() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        if (!value.empty() && value[0] == '-') return "value " + value + " is negative";
+        return "";
+      },
+      "UINT64");
+}
+
+/// OUT_DIR, --scene, --sensor and the scan's --seed, --noise-draw, noise, outlier and motion flags.
 void add_scan_options(CLI::App* app, CommandLine* line) {
   ppcr::synthetic::ScanOptions& options = line->options;
   app->add_option("OUT_DIR", line->out_dir, "output folder (created if missing)")->required();
@@ -170,13 +180,12 @@ void add_scan_options(CLI::App* app, CommandLine* line) {
                   "pixels, 58 x 45 degrees, 0.4-4.5 m; the flags below override it)")
       ->check(CLI::IsMember({"lidar", "camera"}))
       ->capture_default_str();
+  app->add_option("--noise-draw", options.noise_draw,
+                  "another draw of the noise and outliers of the same scans (0: the seed's)")
+      ->check(unsigned_integer())
+      ->capture_default_str();
   app->add_option("--seed", options.seed, "seeds the layout, the poses, the noise, the outliers")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            if (!value.empty() && value[0] == '-') return "value " + value + " is negative";
-            return "";
-          },
-          "UINT64"))
+      ->check(unsigned_integer())
       ->capture_default_str();
   app->add_option("--noise", options.noise_sigma,
                   "std of the Gaussian range noise along each ray, metres")
